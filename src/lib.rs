@@ -1,0 +1,5 @@
+//! vr-ocean: an endless FFT ocean for OpenXR headsets.
+//!
+//! Data flows one way: [`sim`] (CPU ocean fields) → lod → render → xr. See `ARCHITECTURE.md`.
+
+pub mod sim;

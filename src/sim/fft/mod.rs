@@ -1,0 +1,1 @@
+//! Our inverse 2D FFT (placeholder: being written).

@@ -1,0 +1,9 @@
+//! The CPU ocean core: spectrum, time evolution, inverse FFT, surface fields, mips, cascades.
+//! No Vulkan or XR here; the outputs are plain buffers in GPU upload formats.
+
+pub mod error;
+pub mod fft;
+pub mod grid;
+
+pub use error::ParamError;
+pub use grid::{AlignedBuf, GridSize, SplitField};
