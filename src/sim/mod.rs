@@ -7,3 +7,8 @@ pub mod grid;
 
 pub use error::ParamError;
 pub use grid::{AlignedBuf, GridSize, SplitField};
+pub mod dispersion;
+pub mod params;
+pub mod spectrum;
+
+pub use params::{FoamParams, OceanConfig, SpectrumKind, WaveParams};

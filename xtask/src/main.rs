@@ -1,1 +1,674 @@
-fn main() {}
+//! `cargo xtask`: project automation for vr-ocean (std only, no dependencies).
+//!
+//! * `cargo xtask test [--quick] [--no-setup]`: the single test command. Installs what is
+//!   missing (apt packages, rustup components/targets), then runs fmt, clippy, host tests and
+//!   the aarch64 (NEON) tests under qemu, stopping at the first failure.
+//! * `cargo xtask run [ARGS]`: `cargo run --release --bin vr-ocean -- ARGS`.
+//! * `cargo xtask bench [--criterion] [--no-setup] [ARGS]`: FFT benchmarks against FFTW.
+//!
+//! The target directory is never chosen here: nested cargo calls inherit `CARGO_TARGET_DIR`
+//! when the user set it and otherwise use the workspace default.
+
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// Debian/Ubuntu packages `cargo xtask test` needs. Add new requirements here (one list, so a
+/// fresh machine gets everything in a single `apt-get install`).
+const APT_PACKAGES: &[&str] = &[
+    // Cross-compiling and running the aarch64 (NEON) tests.
+    "gcc-aarch64-linux-gnu",
+    "libc6-dev-arm64-cross",
+    "qemu-user-static",
+];
+
+/// Extra packages for `cargo xtask bench` (the `fftw` feature links libfftw3f).
+const BENCH_APT_PACKAGES: &[&str] = &["libfftw3-dev"];
+
+/// rustup components the checks use.
+const RUSTUP_COMPONENTS: &[&str] = &["rustfmt", "clippy"];
+
+/// The cross target: Quest-class hardware is aarch64, so the NEON kernels are tested there.
+const CROSS_TARGET: &str = "aarch64-unknown-linux-gnu";
+
+/// rustup targets the checks use.
+const RUSTUP_TARGETS: &[&str] = &[CROSS_TARGET];
+
+/// One check of `cargo xtask test`. Adding a check is adding one entry to [`STEPS`].
+struct Step {
+    /// Short name for logs and the summary table.
+    name: &'static str,
+    /// Banner printed before the step, so CI logs show clearly what runs.
+    header: &'static str,
+    /// Arguments to `cargo`.
+    cargo_args: &'static [&'static str],
+    /// Skipped by `--quick` (slow steps).
+    slow: bool,
+}
+
+const STEPS: &[Step] = &[
+    Step {
+        name: "fmt",
+        header: "rustfmt check",
+        cargo_args: &["fmt", "--all", "--", "--check"],
+        slow: false,
+    },
+    Step {
+        name: "clippy",
+        header: "clippy (all targets, warnings are errors)",
+        cargo_args: &[
+            "clippy",
+            "--workspace",
+            "--all-targets",
+            "--",
+            "-D",
+            "warnings",
+        ],
+        slow: false,
+    },
+    Step {
+        name: "test (host)",
+        header: "tests on the host",
+        cargo_args: &["test", "--workspace"],
+        slow: false,
+    },
+    Step {
+        name: "test (aarch64/qemu)",
+        header: "CROSS: lib tests `sim::` for aarch64-unknown-linux-gnu (NEON path) under qemu-aarch64-static",
+        cargo_args: &[
+            "test",
+            "--lib",
+            "--target",
+            CROSS_TARGET,
+            "--",
+            "sim::",
+        ],
+        slow: true,
+    },
+];
+
+const USAGE: &str = "\
+usage: cargo xtask <command> [options]
+
+commands:
+  test [--quick] [--no-setup]
+        The project's test command. Installs what is missing (apt packages via
+        apt-get, using sudo when not root; rustup components and targets), then runs
+        in order, stopping at the first failure:
+          cargo fmt --all -- --check
+          cargo clippy --workspace --all-targets -- -D warnings
+          cargo test --workspace
+          cargo test --lib --target aarch64-unknown-linux-gnu -- sim::   (qemu)
+        --quick      skip the aarch64 cross step
+        --no-setup   install nothing; only run the checks
+  run [ARGS...]
+        cargo run --release --bin vr-ocean -- ARGS...
+  bench [--criterion] [--no-setup] [--] [ARGS...]
+        Installs libfftw3-dev if missing, then
+          cargo run --release --features fftw --bin vr-ocean -- bench ARGS...
+        --criterion  afterwards also run: cargo bench --features fftw --bench fft
+        Arguments after `--` go to `vr-ocean bench` untouched.
+  help
+        This text.
+
+The cargo target directory is the workspace default unless CARGO_TARGET_DIR is set.
+";
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let Some((cmd, rest)) = args.split_first() else {
+        eprint!("{USAGE}");
+        return ExitCode::from(2);
+    };
+    let result = match cmd.as_str() {
+        "test" => parse_test_args(rest).and_then(|opts| cmd_test(&opts)),
+        "run" => cmd_run(rest),
+        "bench" => parse_bench_args(rest).and_then(|opts| cmd_bench(&opts)),
+        "help" | "-h" | "--help" => {
+            print!("{USAGE}");
+            Ok(())
+        }
+        other => Err(Failure::Usage(format!("unknown command `{other}`"))),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure::Usage(msg)) => {
+            eprintln!("xtask: {msg}\n");
+            eprint!("{USAGE}");
+            ExitCode::from(2)
+        }
+        Err(Failure::Msg(msg)) => {
+            eprintln!("xtask: error: {msg}");
+            ExitCode::FAILURE
+        }
+        Err(Failure::Exit(code)) => ExitCode::from(code),
+    }
+}
+
+#[derive(Debug, PartialEq)]
+enum Failure {
+    /// Bad command line: usage text, exit 2.
+    Usage(String),
+    /// Something went wrong: message, exit 1.
+    Msg(String),
+    /// A child command failed and already reported why: exit with this code.
+    Exit(u8),
+}
+
+type Result<T> = std::result::Result<T, Failure>;
+
+// ---------------------------------------------------------------------------------------------
+// Argument parsing
+
+#[derive(Debug, Default, PartialEq)]
+struct TestOpts {
+    quick: bool,
+    no_setup: bool,
+}
+
+fn parse_test_args(args: &[String]) -> Result<TestOpts> {
+    let mut opts = TestOpts::default();
+    for arg in args {
+        match arg.as_str() {
+            "--quick" => opts.quick = true,
+            "--no-setup" => opts.no_setup = true,
+            other => return Err(Failure::Usage(format!("test: unknown option `{other}`"))),
+        }
+    }
+    Ok(opts)
+}
+
+#[derive(Debug, Default, PartialEq)]
+struct BenchOpts {
+    criterion: bool,
+    no_setup: bool,
+    /// Passed to `vr-ocean bench`.
+    passthrough: Vec<String>,
+}
+
+fn parse_bench_args(args: &[String]) -> Result<BenchOpts> {
+    let mut opts = BenchOpts::default();
+    let mut iter = args.iter();
+    while let Some(arg) = iter.next() {
+        match arg.as_str() {
+            "--criterion" => opts.criterion = true,
+            "--no-setup" => opts.no_setup = true,
+            "--" => {
+                opts.passthrough.extend(iter.by_ref().cloned());
+                break;
+            }
+            _ => opts.passthrough.push(arg.clone()),
+        }
+    }
+    Ok(opts)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Commands
+
+fn cmd_test(opts: &TestOpts) -> Result<()> {
+    let root = workspace_root();
+    let mut rows: Vec<(String, Outcome)> = Vec::new();
+
+    if opts.no_setup {
+        say("set-up skipped (--no-setup)");
+        rows.push(("set-up".into(), Outcome::Skipped("--no-setup")));
+    } else {
+        let start = Instant::now();
+        let setup = ensure_apt_packages(APT_PACKAGES).and_then(|()| ensure_rustup());
+        let took = start.elapsed();
+        if let Err(err) = setup {
+            rows.push(("set-up".into(), Outcome::Failed(took)));
+            for step in STEPS {
+                rows.push((step.name.into(), Outcome::NotRun));
+            }
+            print_summary(&rows);
+            say("FAILED at step: set-up");
+            return Err(err);
+        }
+        rows.push(("set-up".into(), Outcome::Ok(took)));
+    }
+
+    let mut failed: Option<&Step> = None;
+    for step in STEPS {
+        if failed.is_some() {
+            rows.push((step.name.into(), Outcome::NotRun));
+            continue;
+        }
+        if opts.quick && step.slow {
+            say(&format!("skipping `{}` (--quick)", step.name));
+            rows.push((step.name.into(), Outcome::Skipped("--quick")));
+            continue;
+        }
+        banner(&format!("step `{}`: {}", step.name, step.header));
+        let start = Instant::now();
+        let ok = run_status(cargo().args(step.cargo_args).current_dir(&root))?.success();
+        let took = start.elapsed();
+        if ok {
+            rows.push((step.name.into(), Outcome::Ok(took)));
+        } else {
+            rows.push((step.name.into(), Outcome::Failed(took)));
+            failed = Some(step);
+        }
+    }
+
+    print_summary(&rows);
+    match failed {
+        Some(step) => {
+            say(&format!(
+                "FAILED at step `{}`: cargo {}",
+                step.name,
+                step.cargo_args.join(" ")
+            ));
+            Err(Failure::Exit(1))
+        }
+        None => {
+            say("all steps passed");
+            Ok(())
+        }
+    }
+}
+
+fn cmd_run(args: &[String]) -> Result<()> {
+    let mut cmd = cargo();
+    cmd.args(["run", "--release", "--bin", "vr-ocean"]);
+    if !args.is_empty() {
+        cmd.arg("--").args(args);
+    }
+    run_checked(cmd.current_dir(workspace_root()))
+}
+
+fn cmd_bench(opts: &BenchOpts) -> Result<()> {
+    let root = workspace_root();
+    if opts.no_setup {
+        say("set-up skipped (--no-setup)");
+    } else {
+        ensure_apt_packages(BENCH_APT_PACKAGES)?;
+    }
+    let mut cmd = cargo();
+    cmd.args([
+        "run",
+        "--release",
+        "--features",
+        "fftw",
+        "--bin",
+        "vr-ocean",
+        "--",
+        "bench",
+    ])
+    .args(&opts.passthrough)
+    .current_dir(&root);
+    run_checked(&mut cmd)?;
+    if opts.criterion {
+        let mut cmd = cargo();
+        cmd.args(["bench", "--features", "fftw", "--bench", "fft"])
+            .current_dir(&root);
+        run_checked(&mut cmd)?;
+    }
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------------------
+// Set-up
+
+static APT_UPDATED: AtomicBool = AtomicBool::new(false);
+
+/// Installs the Debian packages in `wanted` that are not installed yet (one `apt-get update`
+/// per xtask run at most). Needs root or sudo; otherwise fails naming the packages.
+fn ensure_apt_packages(wanted: &[&str]) -> Result<()> {
+    say(&format!("checking apt packages: {}", wanted.join(" ")));
+    let mut missing = Vec::new();
+    for pkg in wanted {
+        if !dpkg_installed(pkg)? {
+            missing.push(*pkg);
+        }
+    }
+    if missing.is_empty() {
+        say("apt packages already installed, skipping");
+        return Ok(());
+    }
+    let list = missing.join(" ");
+    // Runs apt-get directly as root, through `sudo env ...` otherwise (sudo resets the env).
+    let prefix: Vec<&str> = if is_root() {
+        vec![]
+    } else if on_path("sudo") {
+        say("not root: using sudo for apt-get");
+        vec!["sudo", "env", "DEBIAN_FRONTEND=noninteractive"]
+    } else {
+        return Err(Failure::Msg(format!(
+            "missing apt packages: {list}\n  installing them needs root and sudo is not available; \
+             run as root: apt-get install -y {list}\n  (or install them yourself and pass --no-setup)"
+        )));
+    };
+    let apt = |args: &[&str]| -> Result<()> {
+        let mut all: Vec<&str> = prefix.clone();
+        all.push("apt-get");
+        all.extend_from_slice(args);
+        let mut cmd = Command::new(all[0]);
+        cmd.args(&all[1..])
+            .env("DEBIAN_FRONTEND", "noninteractive")
+            .stdin(std::process::Stdio::null());
+        run_checked(&mut cmd).map_err(|_| {
+            Failure::Msg(format!(
+                "`{}` failed (needed packages: {list})",
+                all.join(" ")
+            ))
+        })
+    };
+    // Wait for a concurrent dpkg (e.g. unattended-upgrades) instead of failing at once.
+    const LOCK_WAIT: &str = "-oDPkg::Lock::Timeout=600";
+    if !APT_UPDATED.swap(true, Ordering::SeqCst) {
+        say("apt-get update");
+        apt(&["-q", LOCK_WAIT, "update"])?;
+    }
+    say(&format!("installing apt packages: {list}"));
+    let mut args = vec!["-q", LOCK_WAIT, "install", "-y", "--no-install-recommends"];
+    args.extend_from_slice(&missing);
+    apt(&args)
+}
+
+fn dpkg_installed(pkg: &str) -> Result<bool> {
+    let out = Command::new("dpkg-query")
+        .args(["-W", "-f=${Status}", pkg])
+        .output()
+        .map_err(|e| {
+            Failure::Msg(format!(
+                "cannot run dpkg-query ({e}); automatic set-up supports Debian/Ubuntu only. \
+                 Install the equivalents of: {} and pass --no-setup",
+                APT_PACKAGES.join(" ")
+            ))
+        })?;
+    // Exit status 1 and "no packages found" on stderr when the package is unknown.
+    Ok(out.status.success() && is_installed_status(&String::from_utf8_lossy(&out.stdout)))
+}
+
+/// `${Status}` is "want flag status", e.g. `install ok installed`; `deinstall ok config-files`
+/// (removed, config kept) does not count.
+fn is_installed_status(status: &str) -> bool {
+    status.split_whitespace().nth(2) == Some("installed")
+}
+
+fn is_root() -> bool {
+    Command::new("id")
+        .arg("-u")
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
+        .unwrap_or(false)
+}
+
+fn on_path(program: &str) -> bool {
+    std::env::var_os("PATH")
+        .map(|paths| std::env::split_paths(&paths).any(|dir| dir.join(program).is_file()))
+        .unwrap_or(false)
+}
+
+/// Adds the rustup components and targets the checks need to the active toolchain (the
+/// rustup proxy exports RUSTUP_TOOLCHAIN, so this is the toolchain cargo runs with).
+fn ensure_rustup() -> Result<()> {
+    if !on_path("rustup") {
+        say(&format!(
+            "rustup not found: not installing components ({}) or targets ({}); \
+             the checks will fail if they are missing",
+            RUSTUP_COMPONENTS.join(" "),
+            RUSTUP_TARGETS.join(" ")
+        ));
+        return Ok(());
+    }
+
+    say(&format!(
+        "checking rustup components: {}",
+        RUSTUP_COMPONENTS.join(" ")
+    ));
+    let installed = capture(Command::new("rustup").args(["component", "list", "--installed"]))?;
+    let missing: Vec<&str> = RUSTUP_COMPONENTS
+        .iter()
+        .copied()
+        .filter(|c| !has_component(&installed, c))
+        .collect();
+    if missing.is_empty() {
+        say("rustup components already installed, skipping");
+    } else {
+        say(&format!(
+            "installing rustup components: {}",
+            missing.join(" ")
+        ));
+        run_checked(
+            Command::new("rustup")
+                .args(["component", "add"])
+                .args(&missing),
+        )?;
+    }
+
+    say(&format!(
+        "checking rustup targets: {}",
+        RUSTUP_TARGETS.join(" ")
+    ));
+    let installed = capture(Command::new("rustup").args(["target", "list", "--installed"]))?;
+    let missing: Vec<&str> = RUSTUP_TARGETS
+        .iter()
+        .copied()
+        .filter(|t| !installed.lines().any(|l| l.trim() == *t))
+        .collect();
+    if missing.is_empty() {
+        say("rustup targets already installed, skipping");
+    } else {
+        say(&format!("installing rustup targets: {}", missing.join(" ")));
+        run_checked(
+            Command::new("rustup")
+                .args(["target", "add"])
+                .args(&missing),
+        )?;
+    }
+    Ok(())
+}
+
+/// `rustup component list --installed` prints e.g. `clippy-x86_64-unknown-linux-gnu` (older
+/// rustups: `rustfmt-preview-...`). Host triples never start with a component name.
+fn has_component(list: &str, component: &str) -> bool {
+    list.lines().map(str::trim).any(|line| {
+        line.strip_prefix(component)
+            .is_some_and(|rest| rest.is_empty() || rest.starts_with('-'))
+    })
+}
+
+// ---------------------------------------------------------------------------------------------
+// Process helpers
+
+/// The cargo that runs us (same toolchain), or `cargo` from PATH.
+fn cargo() -> Command {
+    Command::new(std::env::var_os("CARGO").unwrap_or_else(|| OsString::from("cargo")))
+}
+
+/// The workspace root: the parent of xtask's manifest dir (cargo sets it at run time; the
+/// compile-time value is the fallback for running the binary directly).
+fn workspace_root() -> PathBuf {
+    let manifest = std::env::var_os("CARGO_MANIFEST_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")));
+    manifest.parent().map(Path::to_path_buf).unwrap_or(manifest)
+}
+
+fn show(cmd: &Command) -> String {
+    std::iter::once(cmd.get_program())
+        .chain(cmd.get_args())
+        .map(|s| s.to_string_lossy().into_owned())
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+fn run_status(cmd: &mut Command) -> Result<std::process::ExitStatus> {
+    say(&format!("running: {}", show(cmd)));
+    cmd.status()
+        .map_err(|e| Failure::Msg(format!("cannot start `{}`: {e}", show(cmd))))
+}
+
+/// Runs `cmd`; on failure exits with its code (128 + signal when killed).
+fn run_checked(cmd: &mut Command) -> Result<()> {
+    let status = run_status(cmd)?;
+    if status.success() {
+        return Ok(());
+    }
+    say(&format!("`{}` failed: {status}", show(cmd)));
+    Err(Failure::Exit(exit_code(status)))
+}
+
+fn exit_code(status: std::process::ExitStatus) -> u8 {
+    if let Some(code) = status.code() {
+        return u8::try_from(code).ok().filter(|&c| c != 0).unwrap_or(1);
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::process::ExitStatusExt;
+        if let Some(sig) = status.signal() {
+            return u8::try_from(128 + sig).unwrap_or(1);
+        }
+    }
+    1
+}
+
+fn capture(cmd: &mut Command) -> Result<String> {
+    let out = cmd
+        .output()
+        .map_err(|e| Failure::Msg(format!("cannot start `{}`: {e}", show(cmd))))?;
+    if !out.status.success() {
+        return Err(Failure::Msg(format!(
+            "`{}` failed: {}\n{}",
+            show(cmd),
+            out.status,
+            String::from_utf8_lossy(&out.stderr)
+        )));
+    }
+    Ok(String::from_utf8_lossy(&out.stdout).into_owned())
+}
+
+// ---------------------------------------------------------------------------------------------
+// Output
+
+fn say(msg: &str) {
+    println!("xtask: {msg}");
+}
+
+fn banner(title: &str) {
+    let rule = "=".repeat(78);
+    println!("\n{rule}\nxtask: {title}\n{rule}");
+}
+
+enum Outcome {
+    Ok(Duration),
+    Failed(Duration),
+    Skipped(&'static str),
+    NotRun,
+}
+
+fn print_summary(rows: &[(String, Outcome)]) {
+    let width = rows.iter().map(|(n, _)| n.len()).max().unwrap_or(4).max(4);
+    let total: Duration = rows
+        .iter()
+        .map(|(_, o)| match o {
+            Outcome::Ok(d) | Outcome::Failed(d) => *d,
+            _ => Duration::ZERO,
+        })
+        .sum();
+    banner("summary");
+    println!("  {:<width$}  {:<18}  {:>9}", "step", "result", "time");
+    for (name, outcome) in rows {
+        let (result, time) = match outcome {
+            Outcome::Ok(d) => ("ok".to_string(), fmt_duration(*d)),
+            Outcome::Failed(d) => ("FAILED".to_string(), fmt_duration(*d)),
+            Outcome::Skipped(why) => (format!("skipped ({why})"), "-".into()),
+            Outcome::NotRun => ("not run".to_string(), "-".into()),
+        };
+        println!("  {name:<width$}  {result:<18}  {time:>9}");
+    }
+    println!(
+        "  {:<width$}  {:<18}  {:>9}",
+        "total",
+        "",
+        fmt_duration(total)
+    );
+}
+
+fn fmt_duration(d: Duration) -> String {
+    let secs = d.as_secs_f64();
+    if secs < 60.0 {
+        format!("{secs:.1}s")
+    } else {
+        format!("{}m{:02}s", d.as_secs() / 60, d.as_secs() % 60)
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn strings(args: &[&str]) -> Vec<String> {
+        args.iter().map(|s| s.to_string()).collect()
+    }
+
+    #[test]
+    fn test_flags() {
+        assert_eq!(parse_test_args(&[]), Ok(TestOpts::default()));
+        assert_eq!(
+            parse_test_args(&strings(&["--quick", "--no-setup"])),
+            Ok(TestOpts {
+                quick: true,
+                no_setup: true
+            })
+        );
+        assert!(matches!(
+            parse_test_args(&strings(&["--bogus"])),
+            Err(Failure::Usage(_))
+        ));
+    }
+
+    #[test]
+    fn bench_flags_are_stripped_and_rest_passes_through() {
+        let opts = parse_bench_args(&strings(&[
+            "--criterion",
+            "--size",
+            "512",
+            "--",
+            "--no-setup",
+        ]))
+        .unwrap();
+        assert!(opts.criterion);
+        assert!(!opts.no_setup);
+        assert_eq!(opts.passthrough, strings(&["--size", "512", "--no-setup"]));
+    }
+
+    #[test]
+    fn dpkg_status() {
+        assert!(is_installed_status("install ok installed"));
+        assert!(!is_installed_status("deinstall ok config-files"));
+        assert!(!is_installed_status(""));
+    }
+
+    #[test]
+    fn rustup_components() {
+        let list = "cargo-x86_64-unknown-linux-gnu\nclippy-x86_64-unknown-linux-gnu\n\
+                    rustfmt-preview-x86_64-unknown-linux-gnu\n";
+        assert!(has_component(list, "clippy"));
+        assert!(has_component(list, "rustfmt"));
+        assert!(!has_component(list, "rust-src"));
+        assert!(!has_component(
+            "rustfmt-x86_64-unknown-linux-gnu\n",
+            "clippy"
+        ));
+    }
+
+    #[test]
+    fn steps_are_well_formed() {
+        let mut names: Vec<_> = STEPS.iter().map(|s| s.name).collect();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), STEPS.len(), "step names must be unique");
+        assert!(
+            STEPS.iter().any(|s| s.slow),
+            "--quick must have something to skip"
+        );
+    }
+}

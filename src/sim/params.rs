@@ -1,0 +1,317 @@
+//! Ocean parameters in physical units, validated once into types the pipeline trusts.
+
+use crate::sim::error::ParamError;
+use crate::sim::grid::GridSize;
+
+/// Standard gravity (m/s²).
+pub const GRAVITY: f32 = 9.81;
+
+/// Most cascades a simulation may run (issue: 1 to 4).
+pub const MAX_CASCADES: usize = 4;
+
+/// Which directional wave spectrum seeds the amplitudes (thesis 3.2).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SpectrumKind {
+    /// Phillips spectrum with the thesis's normalization (eq. 3-5); `amplitude` scales it.
+    Phillips {
+        /// Dimensionless multiplier on A of eq. 4 (1 = the thesis's value).
+        amplitude: f32,
+    },
+    /// JONSWAP fetch-limited spectrum in physical units: variance in m², Hs = 4σ.
+    Jonswap {
+        /// Peak enhancement factor γ (3.3 for a typical North Sea sea state).
+        gamma: f32,
+        /// Fetch, the distance over which the wind has blown (km).
+        fetch_km: f32,
+    },
+}
+
+/// Persistent foam: accumulates where the Jacobian J falls below `threshold`, decays over time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FoamParams {
+    /// Jacobian below which the surface is breaking (eq. 48; 0 = exact fold; up to 1).
+    pub threshold: f32,
+    /// Foam added per second per unit of (threshold − J).
+    pub growth: f32,
+    /// Exponential decay rate (1/s): foam halves every ln2/decay seconds.
+    pub decay: f32,
+}
+
+impl Default for FoamParams {
+    fn default() -> Self {
+        Self {
+            threshold: 0.3,
+            growth: 4.0,
+            decay: 0.6,
+        }
+    }
+}
+
+/// Everything that shapes the waves; shared by all cascades.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WaveParams {
+    /// Spectrum model.
+    pub spectrum: SpectrumKind,
+    /// Wind speed at 10 m (m/s), V of eq. 3.
+    pub wind_speed: f32,
+    /// Direction the wind blows toward, degrees from +x toward +z.
+    pub wind_direction_deg: f32,
+    /// Directional alignment α ∈ [0, 1] (eq. 6, 8): 0 spreads widely, 1 follows the wind.
+    pub alignment: f32,
+    /// Water depth (m) for the finite-depth dispersion ω² = gk·tanh(kd); `None` = deep water.
+    pub depth: Option<f32>,
+    /// Small-wave suppression strength β ∈ [0, 1] (eq. 10-11).
+    pub small_wave_suppression: f32,
+    /// Choppiness λ ∈ [0, 2] (eq. 25, 44).
+    pub choppiness: f32,
+    /// Loop period T (s) of the quantized dispersion (eq. 16).
+    pub loop_period: f32,
+    /// Material roughness r ∈ [0, 1] mapped to normal length (eq. 49).
+    pub roughness: f32,
+    /// Foam dynamics.
+    pub foam: FoamParams,
+    /// Random seed: equal seeds give bit-identical spectra on every platform and thread count.
+    pub seed: u64,
+}
+
+impl Default for WaveParams {
+    fn default() -> Self {
+        Self {
+            spectrum: SpectrumKind::Phillips { amplitude: 1.0 },
+            wind_speed: 10.0,
+            wind_direction_deg: 0.0,
+            alignment: 0.8,
+            depth: None,
+            small_wave_suppression: 0.2,
+            choppiness: 0.9,
+            loop_period: 200.0,
+            roughness: 0.1,
+            foam: FoamParams::default(),
+            seed: 1,
+        }
+    }
+}
+
+/// A complete simulation configuration: grid, cascade patch sizes, waves.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OceanConfig {
+    /// FFT grid side shared by every cascade.
+    pub grid: GridSize,
+    /// Patch size L (m) of each cascade, coarsest first; 1 to 4 entries, strictly decreasing.
+    pub patch_sizes: Vec<f32>,
+    /// Wave conditions.
+    pub waves: WaveParams,
+}
+
+impl OceanConfig {
+    /// One cascade of side `patch` metres on an `n`-grid with default waves.
+    pub fn single(n: u32, patch: f32) -> Result<Self, ParamError> {
+        let cfg = Self {
+            grid: GridSize::new(n)?,
+            patch_sizes: vec![patch],
+            waves: WaveParams::default(),
+        };
+        cfg.validate()?;
+        Ok(cfg)
+    }
+
+    /// Default three cascades with non-integer ratios (≈3.7, ≈4.3) so their tilings never align.
+    pub fn default_cascades(n: u32) -> Result<Self, ParamError> {
+        let cfg = Self {
+            grid: GridSize::new(n)?,
+            patch_sizes: vec![257.0, 69.5, 16.1],
+            waves: WaveParams::default(),
+        };
+        cfg.validate()?;
+        Ok(cfg)
+    }
+
+    /// Checks every parameter; the first violation is returned naming it and its valid range.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        if self.patch_sizes.is_empty() || self.patch_sizes.len() > MAX_CASCADES {
+            return Err(ParamError::new(
+                "cascades",
+                self.patch_sizes.len() as f64,
+                "1 to 4 cascades",
+            ));
+        }
+        for &l in &self.patch_sizes {
+            positive("patch", l, "a finite patch size > 0 and <= 100000 (m)")?;
+            if l > 100_000.0 {
+                return Err(ParamError::new(
+                    "patch",
+                    l as f64,
+                    "a finite patch size > 0 and <= 100000 (m)",
+                ));
+            }
+        }
+        for w in self.patch_sizes.windows(2) {
+            if w[1] >= w[0] {
+                return Err(ParamError::new(
+                    "patch",
+                    w[1] as f64,
+                    "cascade patch sizes strictly decreasing (coarsest first)",
+                ));
+            }
+        }
+        self.waves.validate()
+    }
+}
+
+impl WaveParams {
+    /// Checks every field; see [`OceanConfig::validate`].
+    pub fn validate(&self) -> Result<(), ParamError> {
+        positive("wind", self.wind_speed, "a finite wind speed > 0 (m/s)")?;
+        if self.wind_speed > 60.0 {
+            return Err(ParamError::new(
+                "wind",
+                self.wind_speed as f64,
+                "a finite wind speed > 0 and <= 60 (m/s)",
+            ));
+        }
+        finite(
+            "wind-direction",
+            self.wind_direction_deg,
+            "a finite angle (degrees)",
+        )?;
+        unit("alignment", self.alignment, "a number in [0, 1]")?;
+        if let Some(d) = self.depth {
+            positive("depth", d, "a finite depth > 0 (m), or deep water")?;
+        }
+        unit(
+            "suppression",
+            self.small_wave_suppression,
+            "a number in [0, 1]",
+        )?;
+        in_range(
+            "choppiness",
+            self.choppiness,
+            0.0,
+            2.0,
+            "a number in [0, 2]",
+        )?;
+        positive("loop-period", self.loop_period, "a finite period > 0 (s)")?;
+        unit("roughness", self.roughness, "a number in [0, 1]")?;
+        unit("foam-threshold", self.foam.threshold, "a number in [0, 1]")?;
+        in_range(
+            "foam-growth",
+            self.foam.growth,
+            0.0,
+            1000.0,
+            "a number in [0, 1000] (1/s)",
+        )?;
+        in_range(
+            "foam-decay",
+            self.foam.decay,
+            0.0,
+            1000.0,
+            "a number in [0, 1000] (1/s)",
+        )?;
+        match self.spectrum {
+            SpectrumKind::Phillips { amplitude } => {
+                positive("amplitude", amplitude, "a finite amplitude > 0")?;
+            }
+            SpectrumKind::Jonswap { gamma, fetch_km } => {
+                in_range("gamma", gamma, 1.0, 10.0, "a number in [1, 10]")?;
+                positive("fetch", fetch_km, "a finite fetch > 0 (km)")?;
+                if fetch_km > 10_000.0 {
+                    return Err(ParamError::new(
+                        "fetch",
+                        fetch_km as f64,
+                        "a finite fetch > 0 and <= 10000 (km)",
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+fn finite(name: &'static str, v: f32, valid: &'static str) -> Result<(), ParamError> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(ParamError::new(name, v as f64, valid))
+    }
+}
+
+fn positive(name: &'static str, v: f32, valid: &'static str) -> Result<(), ParamError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(ParamError::new(name, v as f64, valid))
+    }
+}
+
+fn in_range(
+    name: &'static str,
+    v: f32,
+    lo: f32,
+    hi: f32,
+    valid: &'static str,
+) -> Result<(), ParamError> {
+    if v.is_finite() && (lo..=hi).contains(&v) {
+        Ok(())
+    } else {
+        Err(ParamError::new(name, v as f64, valid))
+    }
+}
+
+fn unit(name: &'static str, v: f32, valid: &'static str) -> Result<(), ParamError> {
+    in_range(name, v, 0.0, 1.0, valid)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rejects(mut f: impl FnMut(&mut OceanConfig), name: &str) {
+        let mut c = OceanConfig::default_cascades(64).unwrap();
+        f(&mut c);
+        let e = c.validate().expect_err(name);
+        assert_eq!(e.parameter, name, "{e}");
+        assert!(e.to_string().contains(name));
+    }
+
+    #[test]
+    fn defaults_are_valid() {
+        OceanConfig::default_cascades(256).unwrap();
+        OceanConfig::single(16, 10.0).unwrap();
+    }
+
+    #[test]
+    fn bad_values_name_the_parameter() {
+        rejects(|c| c.waves.wind_speed = 0.0, "wind");
+        rejects(|c| c.waves.wind_speed = -3.0, "wind");
+        rejects(|c| c.waves.wind_speed = f32::NAN, "wind");
+        rejects(|c| c.waves.depth = Some(0.0), "depth");
+        rejects(|c| c.waves.depth = Some(-5.0), "depth");
+        rejects(|c| c.waves.depth = Some(f32::NAN), "depth");
+        rejects(|c| c.waves.choppiness = -0.1, "choppiness");
+        rejects(|c| c.waves.choppiness = f32::NAN, "choppiness");
+        rejects(|c| c.patch_sizes[0] = -1.0, "patch");
+        rejects(|c| c.patch_sizes[1] = f32::INFINITY, "patch");
+        rejects(|c| c.patch_sizes = vec![10.0, 20.0], "patch");
+        rejects(|c| c.patch_sizes = vec![], "cascades");
+        rejects(
+            |c| c.patch_sizes = vec![50.0, 40.0, 30.0, 20.0, 10.0],
+            "cascades",
+        );
+        rejects(|c| c.waves.alignment = 1.5, "alignment");
+        rejects(|c| c.waves.loop_period = 0.0, "loop-period");
+        rejects(|c| c.waves.wind_direction_deg = f32::NAN, "wind-direction");
+        rejects(
+            |c| {
+                c.waves.spectrum = SpectrumKind::Jonswap {
+                    gamma: 3.3,
+                    fetch_km: f32::NAN,
+                }
+            },
+            "fetch",
+        );
+        rejects(
+            |c| c.waves.spectrum = SpectrumKind::Phillips { amplitude: 0.0 },
+            "amplitude",
+        );
+    }
+}
