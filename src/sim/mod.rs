@@ -12,3 +12,5 @@ pub mod params;
 pub mod spectrum;
 
 pub use params::{FoamParams, OceanConfig, SpectrumKind, WaveParams};
+pub mod evolve;
+pub mod trig;

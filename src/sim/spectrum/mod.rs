@@ -119,8 +119,8 @@ pub struct PackedSpectrum {
     pub grid: GridSize,
     /// S'x, S'y, S'z, S'w planes, row-major like the grid.
     pub s: [AlignedBuf; 4],
-    /// Harmonic n of ω' = n·2π/T per mode, exact small integers stored as f32.
-    pub harmonic: AlignedBuf,
+    /// Harmonic n of ω' = n·2π/T per mode (eq. 16).
+    pub harmonic: Vec<u32>,
     /// Σ_k E|h̃(k, t)|²: the expected variance of the height field (m²), for Parseval checks.
     pub expected_variance: f64,
 }
@@ -133,7 +133,7 @@ impl PackedSpectrum {
         let mut out = Self {
             grid: c.grid,
             s: std::array::from_fn(|_| AlignedBuf::zeros(c.grid.texels())),
-            harmonic: AlignedBuf::zeros(c.grid.texels()),
+            harmonic: vec![0; c.grid.texels()],
             expected_variance: 0.0,
         };
         let h0 = |col: usize, row: usize| -> (f64, f64) {
@@ -167,10 +167,9 @@ impl PackedSpectrum {
                 let (kx, kz) = wave_vector(col, row, c.grid, c.patch);
                 let k = (kx * kx + kz * kz).sqrt();
                 harm[col] = if a == 0.0 && b == 0.0 && c_ == 0.0 && d == 0.0 {
-                    0.0 // DC guard (eq. 14) and silent modes: ω = 0
+                    0 // DC guard (eq. 14) and silent modes: ω = 0
                 } else {
                     dispersion::loop_harmonic(dispersion::omega(k, waves.depth), waves.loop_period)
-                        as f32
                 };
             }
         });
@@ -232,7 +231,7 @@ mod tests {
             assert_eq!(s.s[c][3], 0.0); // row 0 = Nyquist row
             assert_eq!(s.s[c][5 * n], 0.0); // col 0 = Nyquist column
         }
-        assert_eq!(s.harmonic[dc], 0.0);
+        assert_eq!(s.harmonic[dc], 0);
         // h̃(−k, 0) = conj(h̃(k, 0)): S'x(−k) = S'x(k) and S'y(−k) = −S'y(k).
         for row in 1..n {
             for col in 1..n {
