@@ -220,13 +220,22 @@ fn cmd_test(opts: &TestOpts) -> Result<()> {
         let setup = ensure_apt_packages(APT_PACKAGES).and_then(|()| ensure_rustup());
         let took = start.elapsed();
         if let Err(err) = setup {
+            // Report the cause before the summary so it is not lost below the table.
+            let code = match err {
+                Failure::Msg(msg) => {
+                    eprintln!("xtask: error: {msg}");
+                    1
+                }
+                Failure::Exit(code) => code,
+                Failure::Usage(msg) => return Err(Failure::Usage(msg)),
+            };
             rows.push(("set-up".into(), Outcome::Failed(took)));
             for step in STEPS {
                 rows.push((step.name.into(), Outcome::NotRun));
             }
             print_summary(&rows);
-            say("FAILED at step: set-up");
-            return Err(err);
+            say("FAILED at step `set-up`");
+            return Err(Failure::Exit(code));
         }
         rows.push(("set-up".into(), Outcome::Ok(took)));
     }
