@@ -2,4 +2,6 @@
 //!
 //! Data flows one way: [`sim`] (CPU ocean fields) → lod → render → xr. See `ARCHITECTURE.md`.
 
+pub mod bench;
+pub mod export;
 pub mod sim;

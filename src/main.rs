@@ -1,1 +1,349 @@
-fn main() {}
+//! The `vr-ocean` command line: simulate, export and bench (the VR and window modes arrive with
+//! the renderer).
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+use vr_ocean::bench::{self, BenchOptions};
+use vr_ocean::export;
+use vr_ocean::sim::{
+    FoamParams, GridSize, OceanConfig, ParamError, Simulation, SpectrumKind, WaveParams,
+};
+
+#[derive(Parser)]
+#[command(
+    name = "vr-ocean",
+    version,
+    about = "An endless FFT ocean for OpenXR headsets"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run the simulation without graphics and print its statistics once a second.
+    Simulate(SimulateArgs),
+    /// Write height, Dx, Dz, normals and Jacobian at given times as float32 EXR and .npy.
+    Export(ExportArgs),
+    /// Time every pipeline stage next to rustfft and (with --features fftw) FFTW.
+    Bench(BenchArgs),
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum SpectrumArg {
+    Phillips,
+    Jonswap,
+}
+
+/// Ocean parameters shared by every command.
+#[derive(Args, Clone)]
+struct OceanArgs {
+    /// FFT grid side: a power of two from 16 to 1024.
+    #[arg(long, default_value_t = 256)]
+    grid: u32,
+    /// Patch size of each cascade in metres, coarsest first (1 to 4, comma-separated).
+    #[arg(long, value_delimiter = ',', default_values_t = [257.0, 69.5, 16.1])]
+    patch: Vec<f32>,
+    /// Wind speed at 10 m (m/s).
+    #[arg(long, default_value_t = 10.0)]
+    wind: f32,
+    /// Wind direction (degrees from +x toward +z).
+    #[arg(long, default_value_t = 0.0)]
+    wind_dir: f32,
+    /// Directional alignment α in [0, 1].
+    #[arg(long, default_value_t = 0.8)]
+    alignment: f32,
+    /// Choppiness λ in [0, 2].
+    #[arg(long, default_value_t = 0.9)]
+    choppiness: f32,
+    /// Water depth (m); deep water when omitted.
+    #[arg(long)]
+    depth: Option<f32>,
+    /// Wave spectrum.
+    #[arg(long, value_enum, default_value_t = SpectrumArg::Phillips)]
+    spectrum: SpectrumArg,
+    /// Phillips amplitude multiplier.
+    #[arg(long, default_value_t = 1.0)]
+    amplitude: f32,
+    /// JONSWAP peak enhancement γ.
+    #[arg(long, default_value_t = 3.3)]
+    gamma: f32,
+    /// JONSWAP fetch (km).
+    #[arg(long, default_value_t = 100.0)]
+    fetch: f32,
+    /// Small-wave suppression β in [0, 1].
+    #[arg(long, default_value_t = 0.2)]
+    suppression: f32,
+    /// Loop period T (s): the animation repeats exactly after T.
+    #[arg(long, default_value_t = 200.0)]
+    loop_period: f32,
+    /// Material roughness in [0, 1].
+    #[arg(long, default_value_t = 0.1)]
+    roughness: f32,
+    /// Random seed.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Jacobian below which foam forms.
+    #[arg(long, default_value_t = FoamParams::default().threshold)]
+    foam_threshold: f32,
+    /// Foam growth rate (1/s).
+    #[arg(long, default_value_t = FoamParams::default().growth)]
+    foam_growth: f32,
+    /// Foam decay rate (1/s).
+    #[arg(long, default_value_t = FoamParams::default().decay)]
+    foam_decay: f32,
+}
+
+impl OceanArgs {
+    fn config(&self) -> Result<OceanConfig, ParamError> {
+        let spectrum = match self.spectrum {
+            SpectrumArg::Phillips => SpectrumKind::Phillips {
+                amplitude: self.amplitude,
+            },
+            SpectrumArg::Jonswap => SpectrumKind::Jonswap {
+                gamma: self.gamma,
+                fetch_km: self.fetch,
+            },
+        };
+        let cfg = OceanConfig {
+            grid: GridSize::new(self.grid)?,
+            patch_sizes: self.patch.clone(),
+            waves: WaveParams {
+                spectrum,
+                wind_speed: self.wind,
+                wind_direction_deg: self.wind_dir,
+                alignment: self.alignment,
+                depth: self.depth,
+                small_wave_suppression: self.suppression,
+                choppiness: self.choppiness,
+                loop_period: self.loop_period,
+                roughness: self.roughness,
+                foam: FoamParams {
+                    threshold: self.foam_threshold,
+                    growth: self.foam_growth,
+                    decay: self.foam_decay,
+                },
+                seed: self.seed,
+            },
+        };
+        cfg.validate()?;
+        Ok(cfg)
+    }
+}
+
+#[derive(Args)]
+struct SimulateArgs {
+    #[command(flatten)]
+    ocean: OceanArgs,
+    /// Simulated seconds to run.
+    #[arg(long, default_value_t = 10.0)]
+    seconds: f64,
+    /// Steps per simulated second (the headset's refresh rate).
+    #[arg(long, default_value_t = 72.0)]
+    rate: f64,
+    /// Simulation worker threads.
+    #[arg(long, default_value_t = default_threads())]
+    threads: usize,
+}
+
+/// What `vr-ocean` with no subcommand runs: `simulate` with its defaults.
+#[derive(Parser)]
+struct DefaultRun {
+    #[command(flatten)]
+    args: SimulateArgs,
+}
+
+#[derive(Args)]
+struct ExportArgs {
+    #[command(flatten)]
+    ocean: OceanArgs,
+    /// Times (s) to export, comma-separated.
+    #[arg(long, value_delimiter = ',', required = true)]
+    time: Vec<f64>,
+    /// Output directory (created if missing).
+    #[arg(long)]
+    out: PathBuf,
+}
+
+#[derive(Args)]
+struct BenchArgs {
+    /// Grid sides to measure.
+    #[arg(long, value_delimiter = ',', default_values_t = [128, 256, 512])]
+    sizes: Vec<u32>,
+    /// Thread counts to measure.
+    #[arg(long, value_delimiter = ',', default_values_t = [1, 2])]
+    threads: Vec<usize>,
+    /// Timed repetitions per measurement.
+    #[arg(long, default_value_t = 40)]
+    iterations: usize,
+    /// Patch size of each cascade (m); one cascade = four FFTs per step.
+    #[arg(long, value_delimiter = ',', default_values_t = [250.0])]
+    patch: Vec<f32>,
+}
+
+fn default_threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+fn main() -> ExitCode {
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info")).init();
+    let cli = Cli::parse();
+    let result = match cli.command {
+        None => simulate(DefaultRun::parse_from(["vr-ocean"]).args),
+        Some(Command::Simulate(a)) => simulate(a),
+        Some(Command::Export(a)) => export_cmd(a),
+        Some(Command::Bench(a)) => bench_cmd(a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+type CmdResult = Result<(), Box<dyn std::error::Error>>;
+
+fn simulate(a: SimulateArgs) -> CmdResult {
+    let cfg = a.ocean.config()?;
+    if !(a.seconds.is_finite() && a.seconds > 0.0) {
+        return Err(ParamError::new("seconds", a.seconds, "a finite duration > 0 (s)").into());
+    }
+    if !(a.rate.is_finite() && a.rate >= 1.0 && a.rate <= 1000.0) {
+        return Err(ParamError::new("rate", a.rate, "a step rate in [1, 1000] (1/s)").into());
+    }
+    let mut sim = Simulation::new(cfg.clone(), a.threads)?;
+    println!(
+        "simulating {} cascade(s) of {}x{} on {} thread(s); patches {:?} m",
+        cfg.patch_sizes.len(),
+        cfg.grid,
+        cfg.grid,
+        sim.threads(),
+        cfg.patch_sizes
+    );
+    let steps = (a.seconds * a.rate).ceil() as usize;
+    let mut last_report = 0.0;
+    let mut wall = std::time::Duration::ZERO;
+    let mut count = 0u32;
+    for i in 0..=steps {
+        let t = i as f64 / a.rate;
+        let start = Instant::now();
+        let s = sim.step_blocking(t);
+        wall += start.elapsed();
+        count += 1;
+        if t - last_report >= 1.0 || i == steps {
+            last_report = t;
+            let c0 = &s.cascades[0];
+            let n = c0.displacement.len() as f64;
+            let var = c0
+                .displacement
+                .iter()
+                .map(|d| (d[1] as f64).powi(2))
+                .sum::<f64>()
+                / n;
+            let foam = (0..c0.displacement.len())
+                .map(|i| c0.foam(i) as f64)
+                .sum::<f64>()
+                / n;
+            let m = s.max_displacement();
+            println!(
+                "t={t:6.2}s  step {:6.2} ms  Hs(coarsest)={:5.2} m  max |D|=({:.2}, {:.2}, {:.2}) m  foam {:4.1}%  h(0,0)={:+.3} m",
+                wall.as_secs_f64() * 1e3 / count as f64,
+                4.0 * var.sqrt(),
+                m[0],
+                m[1],
+                m[2],
+                foam * 100.0,
+                s.height_at(0.0, 0.0)
+            );
+            wall = std::time::Duration::ZERO;
+            count = 0;
+        }
+    }
+    Ok(())
+}
+
+fn export_cmd(a: ExportArgs) -> CmdResult {
+    let cfg = a.ocean.config()?;
+    for &t in &a.time {
+        if !t.is_finite() {
+            return Err(ParamError::new("time", t, "finite times (s)").into());
+        }
+    }
+    export::prepare_dir(&a.out)?;
+    let mut sim = Simulation::new(cfg.clone(), default_threads())?;
+    let mut written = 0;
+    for &t in &a.time {
+        let s = sim.step_blocking(t);
+        for (i, c) in s.cascades.iter().enumerate() {
+            let stem = if s.cascades.len() == 1 {
+                format!("t{t:.3}")
+            } else {
+                format!("t{t:.3}_c{i}")
+            };
+            written += export::write_cascade(c, &a.out, &stem)?.len();
+        }
+    }
+    println!("wrote {written} files to {}", a.out.display());
+    Ok(())
+}
+
+fn bench_cmd(a: BenchArgs) -> CmdResult {
+    let sizes = a
+        .sizes
+        .iter()
+        .map(|&n| GridSize::new(n))
+        .collect::<Result<Vec<_>, _>>()?;
+    if a.threads.iter().any(|&t| t == 0 || t > 256) {
+        return Err(ParamError::new("threads", 0.0, "thread counts in [1, 256]").into());
+    }
+    if a.iterations == 0 || a.iterations > 100_000 {
+        return Err(
+            ParamError::new("iterations", a.iterations as f64, "a count in [1, 100000]").into(),
+        );
+    }
+    let mut config = OceanConfig::single(256, 250.0)?;
+    config.patch_sizes = a.patch.clone();
+    config.validate()?;
+    let opts = BenchOptions {
+        sizes,
+        threads: a.threads,
+        iterations: a.iterations,
+        config,
+    };
+    println!(
+        "vr-ocean bench: CPU {}, rustfft baseline {}, FFTW baseline {}",
+        cpu_model(),
+        if cfg!(feature = "baselines") {
+            "on"
+        } else {
+            "off"
+        },
+        if cfg!(feature = "fftw") {
+            "on (FFTW_PATIENT)"
+        } else {
+            "off (build with --features fftw)"
+        }
+    );
+    let rows = bench::run(&opts)?;
+    print!("{}", bench::format_table(&rows));
+    Ok(())
+}
+
+fn cpu_model() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|m| m.trim().to_string())
+        })
+        .unwrap_or_else(|| std::env::consts::ARCH.to_string())
+}

@@ -50,6 +50,43 @@ impl LoopPhase {
     }
 }
 
+/// h̃(k, t) = S'xy·cos φ + S'zw·sin φ (eq. 24) with φ = ω't.
+///
+/// Expanding eq. 17 directly gives Im h̃ = (b+d)·cos φ + (a−c)·sin φ; the S' of eq. 22,
+/// (a+c, b+d, b−d, c−a), negates the sine terms, i.e. it evaluates eq. 17 at −φ:
+/// h̃ = h₀(k)·e^{−iω't} + h₀*(−k)·e^{iω't}. That is the convention we want: each component
+/// h₀(k)·e^{i(k·x − ωt)} travels along k, with the wind the counter-wave suppression (eq. 8-9)
+/// favours. The single-mode test pins the direction down.
+#[inline(always)]
+fn evolved(s: &[&[f32]; 4], col: usize, sin: f32, cos: f32) -> (f32, f32) {
+    (
+        s[0][col] * cos + s[2][col] * sin,
+        s[1][col] * cos + s[3][col] * sin,
+    )
+}
+
+/// The height spectrum h̃(k, t) alone (eq. 24), for checks and height-only uses.
+pub fn height_spectrum(spectrum: &PackedSpectrum, phase: LoopPhase, out: &mut SplitField) {
+    let n = spectrum.grid.n();
+    let (re, im) = out.planes_mut();
+    re.par_chunks_mut(n)
+        .zip(im.par_chunks_mut(n))
+        .enumerate()
+        .for_each(|(row, (re, im))| {
+            let base = row * n;
+            let s = [
+                &spectrum.s[0][base..base + n],
+                &spectrum.s[1][base..base + n],
+                &spectrum.s[2][base..base + n],
+                &spectrum.s[3][base..base + n],
+            ];
+            for col in 0..n {
+                let (sin, cos) = sincos_turns(phase.turns(spectrum.harmonic[base + col]));
+                (re[col], im[col]) = evolved(&s, col, sin, cos);
+            }
+        });
+}
+
 /// Writes the four packed field spectra at loop phase `phase` (eq. 24) for a cascade of patch
 /// size `patch` (m). Parallel over rows on the current Rayon pool; element-wise, so the output
 /// is the same for any thread count.
@@ -87,9 +124,7 @@ pub fn evolve(
         let kz = gz * dk;
         for col in 0..n {
             let (sin, cos) = sincos_turns(phase.turns(harm[col]));
-            // h̃(k, t) = S'xy·cos φ + S'zw·sin φ (eq. 24).
-            let hr = s[0][col] * cos + s[2][col] * sin;
-            let hi = s[1][col] * cos + s[3][col] * sin;
+            let (hr, hi) = evolved(&s, col, sin, cos);
             // Unit wave direction with the DC-safe rsqrt of eq. 28 (grid units).
             let gx = col as f32 - half;
             let inv = 1.0 / (gx * gx + gz * gz).max(1.0).sqrt();

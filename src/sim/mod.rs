@@ -1,16 +1,23 @@
-//! The CPU ocean core: spectrum, time evolution, inverse FFT, surface fields, mips, cascades.
-//! No Vulkan or XR here; the outputs are plain buffers in GPU upload formats.
+//! The CPU ocean core: spectrum, time evolution, inverse FFT, surface fields, mips, cascades,
+//! height queries. No Vulkan or XR here; the outputs are plain buffers in GPU upload formats.
+//!
+//! Stages (thesis Table 1): [`spectrum`] (1, on demand) → [`evolve`] (2) → [`fft`] (3-4) →
+//! [`surface`] (5-6+, with [`pack`]), scheduled by [`pipeline`].
 
+pub mod dispersion;
 pub mod error;
+pub mod evolve;
 pub mod fft;
 pub mod grid;
+pub mod pack;
+pub mod params;
+pub mod pipeline;
+pub mod query;
+pub mod spectrum;
+pub mod surface;
+pub mod trig;
 
 pub use error::ParamError;
 pub use grid::{AlignedBuf, GridSize, SplitField};
-pub mod dispersion;
-pub mod params;
-pub mod spectrum;
-
 pub use params::{FoamParams, OceanConfig, SpectrumKind, WaveParams};
-pub mod evolve;
-pub mod trig;
+pub use pipeline::{SimCore, SimError, Simulation, StageTimes, Surfaces};

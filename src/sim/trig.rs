@@ -12,8 +12,7 @@ pub fn sincos_turns(x: f32) -> (f32, f32) {
     let t2 = t * t;
     // Taylor on |t| ≤ π/4: truncation error < 3e-7 (sin), < 3e-8 (cos).
     let s = t * (1.0 + t2 * (-1.0 / 6.0 + t2 * (1.0 / 120.0 + t2 * (-1.0 / 5040.0))));
-    let c = 1.0
-        + t2 * (-0.5 + t2 * (1.0 / 24.0 + t2 * (-1.0 / 720.0 + t2 * (1.0 / 40320.0))));
+    let c = 1.0 + t2 * (-0.5 + t2 * (1.0 / 24.0 + t2 * (-1.0 / 720.0 + t2 * (1.0 / 40320.0))));
     // Rotate by q quarter turns: (s, c) → (c, −s) → (−s, −c) → (−c, s).
     let (s1, c1) = if q & 1 == 1 { (c, -s) } else { (s, c) };
     if q & 2 == 2 {

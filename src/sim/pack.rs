@@ -1,0 +1,88 @@
+//! GPU upload encodings (thesis 3.8.3-3.9.2, 4.4): normal length from roughness, smoothness from
+//! normal length, RGBA8 packing and the offsets of the contiguous mip chain.
+
+use crate::sim::grid::GridSize;
+
+/// Expected normal length for material roughness r ∈ [0, 1] (eq. 49).
+#[inline]
+pub fn normal_length(roughness: f32) -> f32 {
+    let r = roughness;
+    1.0 - r * (0.306 + r * (0.113 + r * 0.081))
+}
+
+/// Smoothness from an averaged (unnormalized) normal's length (eq. 53): [2/3, 1] ↦ [0, 1].
+#[inline]
+pub fn smoothness(normal_length: f32) -> f32 {
+    let t = ((normal_length - 2.0 / 3.0) * 3.0).clamp(0.0, 1.0);
+    let r = 1.0 - t * (0.85 + 0.15 * t);
+    1.0 - r.max(0.0).sqrt()
+}
+
+/// Quantizes a [0, 1] value to 8 bits with rounding (eq. 50).
+#[inline]
+fn unorm8(v: f32) -> u32 {
+    (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u32
+}
+
+/// RGBA8 texel (eq. 50-51): R, G = unit normal x, z mapped from [−1, 1]; B = foam coverage
+/// (the persistent foam replaces eq. 50's raw Jacobian, which is kept in the displacement
+/// texture's alpha); A = smoothness. R is the lowest byte.
+#[inline]
+pub fn pack_rgba8(nx: f32, nz: f32, foam: f32, smoothness: f32) -> u32 {
+    unorm8(nx * 0.5 + 0.5)
+        | (unorm8(nz * 0.5 + 0.5) << 8)
+        | (unorm8(foam) << 16)
+        | (unorm8(smoothness) << 24)
+}
+
+/// Texel offset of mip `level` in the contiguous chain (eq. 55):
+/// (4N² − 1)/3 − (4^(log₂N + 1 − m) − 1)/3.
+#[inline]
+pub fn mip_offset(grid: GridSize, level: u32) -> usize {
+    let total = mip_chain_len(grid);
+    let rest = ((1usize << (2 * (grid.log2() + 1 - level))) - 1) / 3;
+    total - rest
+}
+
+/// Texels in the whole chain N² + (N/2)² + … + 1 = (4N² − 1)/3.
+#[inline]
+pub fn mip_chain_len(grid: GridSize) -> usize {
+    (4 * grid.texels() - 1) / 3
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn thesis_endpoints() {
+        assert_eq!(normal_length(0.0), 1.0);
+        assert!((normal_length(1.0) - 0.5).abs() < 1e-6);
+        assert_eq!(smoothness(1.0), 1.0);
+        assert_eq!(smoothness(2.0 / 3.0), 0.0);
+        assert_eq!(smoothness(0.1), 0.0);
+        assert!(smoothness(0.9) > smoothness(0.8));
+    }
+
+    #[test]
+    fn packing_layout() {
+        let p = pack_rgba8(1.0, -1.0, 0.5, 1.0);
+        assert_eq!(p & 0xff, 255);
+        assert_eq!((p >> 8) & 0xff, 0);
+        assert_eq!((p >> 16) & 0xff, 128);
+        assert_eq!(p >> 24, 255);
+    }
+
+    #[test]
+    fn mip_offsets_follow_the_geometric_series() {
+        for n in [16, 64, 1024] {
+            let g = GridSize::new(n).unwrap();
+            let mut expect = 0;
+            for m in 0..g.mip_levels() {
+                assert_eq!(mip_offset(g, m), expect, "n {n} level {m}");
+                expect += (g.n() >> m) * (g.n() >> m);
+            }
+            assert_eq!(expect, mip_chain_len(g));
+        }
+    }
+}

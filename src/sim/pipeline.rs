@@ -1,0 +1,439 @@
+//! The simulation pipeline (thesis 4, Table 1): stage 1 on demand, stages 2-6 every step, and
+//! the double buffer that lets step t + dt run on the Rayon pool while the caller reads step t.
+
+use std::sync::{Arc, Condvar, Mutex};
+use std::time::{Duration, Instant};
+
+use crate::sim::error::ParamError;
+use crate::sim::evolve::{self, LoopPhase};
+use crate::sim::fft::Fft2d;
+use crate::sim::grid::{AlignedBuf, SplitField};
+use crate::sim::params::{OceanConfig, WaveParams};
+use crate::sim::query;
+use crate::sim::spectrum::{cascade_bands, CascadeSpec, PackedSpectrum};
+use crate::sim::surface::{self, CascadeSurface, SurfaceParams};
+
+/// One step's output for every cascade, coarsest first.
+pub struct Surfaces {
+    /// Per-cascade fields.
+    pub cascades: Vec<CascadeSurface>,
+}
+
+impl Surfaces {
+    /// Zeroed surfaces shaped for `config`.
+    pub fn new(config: &OceanConfig) -> Self {
+        Self {
+            cascades: config
+                .patch_sizes
+                .iter()
+                .map(|&l| CascadeSurface::new(config.grid, l))
+                .collect(),
+        }
+    }
+
+    /// Simulation time (s) of these fields.
+    pub fn time(&self) -> f64 {
+        self.cascades[0].time
+    }
+
+    /// Water height (m) at world (x, z) on the displaced surface of all cascades.
+    pub fn height_at(&self, x: f32, z: f32) -> f32 {
+        query::height_at(&self.cascades, x, z)
+    }
+
+    /// Heights at many [x, z] points, lazily.
+    pub fn heights_at<'a>(&'a self, points: &'a [[f32; 2]]) -> impl Iterator<Item = f32> + 'a {
+        query::heights_at(&self.cascades, points)
+    }
+
+    /// Largest |Dx|, |h|, |Dz| of the summed cascades (an upper bound: the sum of each
+    /// cascade's maximum), for padding LOD bounding boxes.
+    pub fn max_displacement(&self) -> [f32; 3] {
+        self.cascades.iter().fold([0.0; 3], |a, c| {
+            let m = c.max_displacement;
+            [a[0] + m[0], a[1] + m[1], a[2] + m[2]]
+        })
+    }
+}
+
+/// Wall time of each stage of the last step, summed over cascades (thesis Table 1).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StageTimes {
+    /// Stage 2: time evolution and packing of the derivative spectra.
+    pub evolve: Duration,
+    /// Stages 3-4: the inverse 2D FFTs (four per cascade).
+    pub fft: Duration,
+    /// Stages 5-6+: displacement, normals, Jacobian, foam, packing and mips.
+    pub surface: Duration,
+}
+
+impl StageTimes {
+    /// Sum of all stages.
+    pub fn total(&self) -> Duration {
+        self.evolve + self.fft + self.surface
+    }
+}
+
+/// One cascade's private state: its packed spectrum, FFT work buffers and persistent foam.
+struct CascadeSim {
+    spec: CascadeSpec,
+    spectrum: PackedSpectrum,
+    fields: [SplitField; 4],
+    scratch: [SplitField; 4],
+    foam: AlignedBuf,
+}
+
+/// The synchronous pipeline: owns every buffer, so [`SimCore::step`] allocates nothing.
+/// Runs its stages on the current Rayon pool.
+pub struct SimCore {
+    config: OceanConfig,
+    fft: Fft2d,
+    cascades: Vec<CascadeSim>,
+    last_time: Option<f64>,
+    timings: StageTimes,
+}
+
+impl SimCore {
+    /// Validates `config` and runs stage 1 for every cascade.
+    pub fn new(config: OceanConfig) -> Result<Self, ParamError> {
+        config.validate()?;
+        let grid = config.grid;
+        let bands = cascade_bands(&config.patch_sizes, grid);
+        let cascades = config
+            .patch_sizes
+            .iter()
+            .zip(&bands)
+            .enumerate()
+            .map(|(i, (&patch, &band))| {
+                let spec = CascadeSpec {
+                    index: i as u32,
+                    patch,
+                    band,
+                    grid,
+                };
+                CascadeSim {
+                    spectrum: PackedSpectrum::generate(&config.waves, &spec),
+                    spec,
+                    fields: std::array::from_fn(|_| SplitField::zeros(grid)),
+                    scratch: std::array::from_fn(|_| SplitField::zeros(grid)),
+                    foam: AlignedBuf::zeros(grid.texels()),
+                }
+            })
+            .collect();
+        Ok(Self {
+            fft: Fft2d::new(grid),
+            config,
+            cascades,
+            last_time: None,
+            timings: StageTimes::default(),
+        })
+    }
+
+    /// The configuration in use.
+    pub fn config(&self) -> &OceanConfig {
+        &self.config
+    }
+
+    /// The FFT plan (its backend tells which SIMD path runs).
+    pub fn fft(&self) -> &Fft2d {
+        &self.fft
+    }
+
+    /// Expected height variance Σ E|h̃|² of each cascade (m²), for Parseval checks.
+    pub fn expected_variances(&self) -> impl Iterator<Item = f64> + '_ {
+        self.cascades.iter().map(|c| c.spectrum.expected_variance)
+    }
+
+    /// Changes the waves. Re-runs stage 1 only when something that shapes the spectrum changed;
+    /// choppiness, roughness and foam take effect at the next step for free.
+    pub fn set_waves(&mut self, waves: WaveParams) -> Result<(), ParamError> {
+        waves.validate()?;
+        let old = self.config.waves;
+        self.config.waves = waves;
+        let reshaped = WaveParams {
+            choppiness: old.choppiness,
+            roughness: old.roughness,
+            foam: old.foam,
+            ..waves
+        } != old;
+        if reshaped {
+            for c in &mut self.cascades {
+                c.spectrum = PackedSpectrum::generate(&waves, &c.spec);
+            }
+        }
+        Ok(())
+    }
+
+    /// Stages 2-6 for time `t` (s) into `out`: evolution, four inverse FFTs per cascade,
+    /// displacement, normals, Jacobian, foam, packing and mips. Foam integrates over the time
+    /// since the previous step.
+    pub fn step(&mut self, t: f64, out: &mut Surfaces) {
+        let waves = &self.config.waves;
+        let dt = match self.last_time {
+            Some(prev) if t > prev => (t - prev) as f32,
+            _ => 0.0,
+        };
+        self.last_time = Some(t);
+        let params = SurfaceParams {
+            choppiness: waves.choppiness,
+            roughness: waves.roughness,
+            foam: waves.foam,
+            dt,
+        };
+        let phase = LoopPhase::new(t, waves.loop_period);
+        let mut times = StageTimes::default();
+        for (c, surface) in self.cascades.iter_mut().zip(&mut out.cascades) {
+            let t0 = Instant::now();
+            evolve::evolve(&c.spectrum, c.spec.patch, phase, &mut c.fields);
+            let t1 = Instant::now();
+            self.fft.inverse_batch(&mut c.fields, &mut c.scratch);
+            let t2 = Instant::now();
+            surface::finalize(&c.fields, &mut c.foam, params, t, surface);
+            let t3 = Instant::now();
+            times.evolve += t1 - t0;
+            times.fft += t2 - t1;
+            times.surface += t3 - t2;
+        }
+        self.timings = times;
+    }
+
+    /// Stage times of the last [`SimCore::step`].
+    pub fn timings(&self) -> StageTimes {
+        self.timings
+    }
+
+    /// Re-runs stage 1 (spectrum generation) for every cascade and returns its wall time; the
+    /// spectrum is unchanged (same seed), so this only measures.
+    pub fn regenerate_spectrum(&mut self) -> Duration {
+        let t0 = Instant::now();
+        for c in &mut self.cascades {
+            c.spectrum = PackedSpectrum::generate(&self.config.waves, &c.spec);
+        }
+        t0.elapsed()
+    }
+}
+
+/// What passes between the caller and the worker.
+#[derive(Default)]
+struct Slot {
+    /// A step to run: time and the buffer to fill.
+    request: Option<(f64, Surfaces)>,
+    /// A finished step.
+    done: Option<Surfaces>,
+    /// New waves to apply before the next step.
+    waves: Option<WaveParams>,
+    shutdown: bool,
+    exited: bool,
+}
+
+struct Shared {
+    slot: Mutex<Slot>,
+    wake: Condvar,
+}
+
+impl Shared {
+    fn lock(&self) -> std::sync::MutexGuard<'_, Slot> {
+        // A poisoned lock means the worker panicked; the slot data is still consistent.
+        self.slot.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+/// Why the simulation could not start.
+#[derive(Debug)]
+pub enum SimError {
+    /// A parameter is out of range.
+    Param(ParamError),
+    /// The thread pool could not be built (e.g. threads = 0 or the OS refused a thread).
+    Threads(String),
+}
+
+impl std::fmt::Display for SimError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SimError::Param(e) => e.fmt(f),
+            SimError::Threads(e) => write!(f, "cannot start simulation threads: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for SimError {}
+
+impl From<ParamError> for SimError {
+    fn from(e: ParamError) -> Self {
+        SimError::Param(e)
+    }
+}
+
+/// The double-buffered simulation: [`Simulation::begin_step`] starts step t on a dedicated
+/// Rayon pool and returns at once; the caller keeps reading [`Simulation::surfaces`] (the
+/// previous step) until [`Simulation::end_step`] swaps the new one in. The worker runs as one
+/// long-lived job inside the pool, so steps inject nothing into Rayon's queues and the steady
+/// state allocates nothing.
+pub struct Simulation {
+    front: Surfaces,
+    shared: Arc<Shared>,
+    in_flight: bool,
+    threads: usize,
+    config: OceanConfig,
+    pool: Option<rayon::ThreadPool>,
+}
+
+impl Simulation {
+    /// Starts a simulation of `config` on `threads` worker threads (≥ 1).
+    pub fn new(config: OceanConfig, threads: usize) -> Result<Self, SimError> {
+        if threads == 0 {
+            return Err(SimError::Param(ParamError::new(
+                "threads",
+                0.0,
+                "at least 1 thread",
+            )));
+        }
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .thread_name(|i| format!("ocean-sim-{i}"))
+            .build()
+            .map_err(|e| SimError::Threads(e.to_string()))?;
+        let mut core = pool.install(|| SimCore::new(config.clone()))?;
+        let front = Surfaces::new(&config);
+        let back = Surfaces::new(&config);
+        let shared = Arc::new(Shared {
+            slot: Mutex::new(Slot {
+                done: Some(back),
+                ..Slot::default()
+            }),
+            wake: Condvar::new(),
+        });
+        let worker = shared.clone();
+        pool.spawn(move || worker_loop(&mut core, &worker));
+        Ok(Self {
+            front,
+            shared,
+            in_flight: false,
+            threads,
+            config,
+            pool: Some(pool),
+        })
+    }
+
+    /// The configuration (waves as last set).
+    pub fn config(&self) -> &OceanConfig {
+        &self.config
+    }
+
+    /// Worker threads in the pool.
+    pub fn threads(&self) -> usize {
+        self.threads
+    }
+
+    /// The newest finished step.
+    pub fn surfaces(&self) -> &Surfaces {
+        &self.front
+    }
+
+    /// Validates and queues new waves; they apply from the next step (stage 1 re-runs on the
+    /// worker if the spectrum changed).
+    pub fn set_waves(&mut self, waves: WaveParams) -> Result<(), ParamError> {
+        waves.validate()?;
+        self.config.waves = waves;
+        self.shared.lock().waves = Some(waves);
+        Ok(())
+    }
+
+    /// Starts computing time `t` (s) in the background. If a step is already running, waits
+    /// for it first (and publishes it).
+    pub fn begin_step(&mut self, t: f64) {
+        if self.in_flight {
+            self.end_step();
+        }
+        let mut slot = self.shared.lock();
+        let back = loop {
+            match slot.done.take() {
+                Some(b) => break b,
+                None => {
+                    slot = self
+                        .shared
+                        .wake
+                        .wait(slot)
+                        .unwrap_or_else(|e| e.into_inner())
+                }
+            }
+        };
+        slot.request = Some((t, back));
+        self.in_flight = true;
+        drop(slot);
+        self.shared.wake.notify_all();
+    }
+
+    /// Waits for the step started by [`Self::begin_step`] and makes it current. Without a step
+    /// in flight this returns the current surfaces at once.
+    pub fn end_step(&mut self) -> &Surfaces {
+        if self.in_flight {
+            let mut slot = self.shared.lock();
+            let new = loop {
+                match slot.done.take() {
+                    Some(s) => break s,
+                    None => {
+                        slot = self
+                            .shared
+                            .wake
+                            .wait(slot)
+                            .unwrap_or_else(|e| e.into_inner())
+                    }
+                }
+            };
+            let old = std::mem::replace(&mut self.front, new);
+            slot.done = Some(old);
+            self.in_flight = false;
+        }
+        &self.front
+    }
+
+    /// Computes time `t` and returns it: `begin_step` + `end_step`.
+    pub fn step_blocking(&mut self, t: f64) -> &Surfaces {
+        self.begin_step(t);
+        self.end_step()
+    }
+}
+
+impl Drop for Simulation {
+    fn drop(&mut self) {
+        let mut slot = self.shared.lock();
+        slot.shutdown = true;
+        self.shared.wake.notify_all();
+        while !slot.exited {
+            slot = self
+                .shared
+                .wake
+                .wait(slot)
+                .unwrap_or_else(|e| e.into_inner());
+        }
+        drop(slot);
+        drop(self.pool.take());
+    }
+}
+
+/// The worker: waits for a request, runs it with the pool's threads, hands the buffer back.
+fn worker_loop(core: &mut SimCore, shared: &Shared) {
+    let mut slot = shared.lock();
+    loop {
+        if slot.shutdown {
+            slot.exited = true;
+            shared.wake.notify_all();
+            return;
+        }
+        let Some((t, mut out)) = slot.request.take() else {
+            slot = shared.wake.wait(slot).unwrap_or_else(|e| e.into_inner());
+            continue;
+        };
+        let waves = slot.waves.take();
+        drop(slot);
+        if let Some(w) = waves {
+            // Already validated by `Simulation::set_waves`.
+            let _ = core.set_waves(w);
+        }
+        core.step(t, &mut out);
+        slot = shared.lock();
+        slot.done = Some(out);
+        shared.wake.notify_all();
+    }
+}

@@ -1,0 +1,438 @@
+//! Physics and numerics of the simulation core, end to end through the public API.
+
+use vr_ocean::sim::evolve::{self, LoopPhase};
+use vr_ocean::sim::fft::Fft2d;
+use vr_ocean::sim::spectrum::{self, cascade_bands, CascadeSpec, PackedSpectrum};
+use vr_ocean::sim::surface::{self, CascadeSurface, SurfaceParams};
+use vr_ocean::sim::{
+    dispersion, AlignedBuf, FoamParams, GridSize, OceanConfig, SimCore, SpectrumKind, SplitField,
+    Surfaces,
+};
+
+fn spec_of(cfg: &OceanConfig, i: usize) -> CascadeSpec {
+    CascadeSpec {
+        index: i as u32,
+        patch: cfg.patch_sizes[i],
+        band: cascade_bands(&cfg.patch_sizes, cfg.grid)[i],
+        grid: cfg.grid,
+    }
+}
+
+fn step(core: &mut SimCore, cfg: &OceanConfig, t: f64) -> Surfaces {
+    let mut out = Surfaces::new(cfg);
+    core.step(t, &mut out);
+    out
+}
+
+fn rms(v: impl Iterator<Item = f32>) -> f64 {
+    let (mut s, mut n) = (0.0, 0usize);
+    for x in v {
+        s += (x as f64).powi(2);
+        n += 1;
+    }
+    (s / n as f64).sqrt()
+}
+
+#[test]
+fn animation_repeats_after_the_loop_period() {
+    let cfg = OceanConfig::default_cascades(64).unwrap();
+    let mut core = SimCore::new(cfg.clone()).unwrap();
+    let period = cfg.waves.loop_period as f64;
+    for t in [0.0, 3.7, 123.25] {
+        let a = step(&mut core, &cfg, t);
+        let b = step(&mut core, &cfg, t + period);
+        let c = step(&mut core, &cfg, t + 7.0 * period);
+        for ((ca, cb), cc) in a.cascades.iter().zip(&b.cascades).zip(&c.cascades) {
+            let scale = rms(ca.displacement.iter().map(|d| d[1])) as f32;
+            assert!(scale > 0.0);
+            for ((x, y), z) in ca
+                .displacement
+                .iter()
+                .zip(&cb.displacement)
+                .zip(&cc.displacement)
+            {
+                for k in 0..3 {
+                    assert!((x[k] - y[k]).abs() <= 1e-4 * scale, "t={t}: {x:?} vs {y:?}");
+                    assert!((x[k] - z[k]).abs() <= 1e-4 * scale, "t={t}: {x:?} vs {z:?}");
+                }
+            }
+        }
+        // And it does move in between.
+        let d = step(&mut core, &cfg, t + 0.5 * period);
+        let moved = a.cascades[0]
+            .displacement
+            .iter()
+            .zip(&d.cascades[0].displacement)
+            .any(|(x, y)| (x[1] - y[1]).abs() > 1e-3);
+        assert!(moved);
+    }
+}
+
+/// A spectrum with one mode h₀(k) = amplitude at texel (col, row) and nothing else.
+fn single_mode(
+    grid: GridSize,
+    col: usize,
+    row: usize,
+    amplitude: f32,
+    harmonic: u32,
+) -> PackedSpectrum {
+    let n = grid.n();
+    let mut s: [AlignedBuf; 4] = std::array::from_fn(|_| AlignedBuf::zeros(grid.texels()));
+    let mut harm = vec![0u32; grid.texels()];
+    // S' = (a + c, b + d, b − d, c − a) with (a, b) = h₀(k) and (c, d) = conj h₀(−k) = 0 at k;
+    // at −k: (a, b) = 0 and (c, d) = conj h₀(k).
+    let i = row * n + col;
+    let m = ((n - row) & (n - 1)) * n + ((n - col) & (n - 1));
+    s[0][i] = amplitude;
+    s[3][i] = -amplitude;
+    s[0][m] = amplitude;
+    s[3][m] = amplitude;
+    harm[i] = harmonic;
+    harm[m] = harmonic;
+    PackedSpectrum {
+        grid,
+        s,
+        harmonic: harm,
+        expected_variance: 2.0 * (amplitude as f64).powi(2),
+    }
+}
+
+/// Height field of a packed spectrum at time t, through the real evolve → FFT → surface path.
+fn heights(spec: &PackedSpectrum, patch: f32, t: f64, period: f32) -> Vec<f32> {
+    let grid = spec.grid;
+    let fft = Fft2d::new(grid);
+    let mut fields: [SplitField; 4] = std::array::from_fn(|_| SplitField::zeros(grid));
+    let mut scratch: [SplitField; 4] = std::array::from_fn(|_| SplitField::zeros(grid));
+    evolve::evolve(spec, patch, LoopPhase::new(t, period), &mut fields);
+    fft.inverse_batch(&mut fields, &mut scratch);
+    let mut out = CascadeSurface::new(grid, patch);
+    let mut foam = AlignedBuf::zeros(grid.texels());
+    let p = SurfaceParams {
+        choppiness: 0.0,
+        roughness: 0.0,
+        foam: FoamParams::default(),
+        dt: 0.0,
+    };
+    surface::finalize(&fields, &mut foam, p, t, &mut out);
+    out.displacement.iter().map(|d| d[1]).collect()
+}
+
+#[test]
+fn a_single_mode_travels_along_k_at_the_phase_speed() {
+    let grid = GridSize::new(64).unwrap();
+    let (n, patch, period) = (64usize, 100.0f32, 200.0f32);
+    // k = 2π/L·(3, 2): texel (col, row) = (N/2 + 3, N/2 + 2).
+    let (col, row) = (n / 2 + 3, n / 2 + 2);
+    let (kx, kz) = spectrum::wave_vector(col, row, grid, patch);
+    let k = (kx * kx + kz * kz).sqrt();
+    let omega = dispersion::omega(k, None);
+    let harmonic = dispersion::loop_harmonic(omega, period);
+    let omega_q = harmonic as f64 * std::f64::consts::TAU / period as f64;
+    assert!(omega - omega_q < std::f64::consts::TAU / period as f64);
+    let spec = single_mode(grid, col, row, 0.5, harmonic);
+    // Project h(x, t) on e^{−ik·x}: the phase of the result is −ω't + const for a wave moving
+    // along +k.
+    let phase_at = |t: f64| {
+        let h = heights(&spec, patch, t, period);
+        let (mut re, mut im) = (0.0f64, 0.0f64);
+        for r in 0..n {
+            for c in 0..n {
+                let (x, z) = (
+                    c as f64 * patch as f64 / n as f64,
+                    r as f64 * patch as f64 / n as f64,
+                );
+                let a = -(kx * x + kz * z);
+                re += h[r * n + c] as f64 * a.cos();
+                im += h[r * n + c] as f64 * a.sin();
+            }
+        }
+        // Amplitude check: h = 2·A·cos(k·x − ωt), so |projection| = A·N².
+        assert!(((re * re + im * im).sqrt() / (0.5 * (n * n) as f64) - 1.0).abs() < 1e-4);
+        im.atan2(re)
+    };
+    let dt = 0.05;
+    let (p0, p1) = (phase_at(10.0), phase_at(10.0 + dt));
+    let mut dphi = p1 - p0;
+    if dphi > std::f64::consts::PI {
+        dphi -= std::f64::consts::TAU;
+    }
+    if dphi < -std::f64::consts::PI {
+        dphi += std::f64::consts::TAU;
+    }
+    let measured_omega = -dphi / dt;
+    assert!(
+        (measured_omega / omega_q - 1.0).abs() < 1e-4,
+        "ω measured {measured_omega}, quantized {omega_q}"
+    );
+    // Phase speed c = ω/k, positive: the crest moves along +k.
+    let c = measured_omega / k;
+    let c_theory = omega / k;
+    assert!(c > 0.0);
+    assert!((c / c_theory - 1.0).abs() < 0.01, "c {c} vs {c_theory}");
+}
+
+#[test]
+fn packed_height_spectrum_transforms_to_a_real_field() {
+    for n in [16u32, 64, 256] {
+        let cfg = OceanConfig::single(n, 120.0).unwrap();
+        let spec = PackedSpectrum::generate(&cfg.waves, &spec_of(&cfg, 0));
+        let grid = cfg.grid;
+        let fft = Fft2d::new(grid);
+        let mut f = SplitField::zeros(grid);
+        let mut scratch = SplitField::zeros(grid);
+        evolve::height_spectrum(&spec, LoopPhase::new(17.3, 200.0), &mut f);
+        fft.inverse(&mut f, &mut scratch);
+        let re = rms(f.re.iter().copied());
+        let im = rms(f.im.iter().copied());
+        assert!(re > 0.0);
+        assert!(im < 1e-6 * re, "N={n}: imaginary residue {im} vs rms {re}");
+    }
+}
+
+#[test]
+fn height_variance_obeys_parseval_and_matches_the_spectrum() {
+    let mut cfg = OceanConfig::single(256, 1000.0).unwrap();
+    cfg.waves.spectrum = SpectrumKind::Jonswap {
+        gamma: 3.3,
+        fetch_km: 100.0,
+    };
+    cfg.waves.choppiness = 0.0;
+    let spec = spec_of(&cfg, 0);
+    let n = cfg.grid.n();
+    let mut core = SimCore::new(cfg.clone()).unwrap();
+    let expected = core.expected_variances().next().unwrap();
+    // Sampling error of Σ|h̃|²: pairs (k, −k) share one exponential variable of mean 2P(k).
+    let mut var_of_sum = 0.0;
+    for row in 0..n {
+        for col in 0..n {
+            let p = spectrum::mode_power(&cfg.waves, &spec, col, row);
+            var_of_sum += 2.0 * p * p; // half of the pair's 4·P², counted at both k and −k
+        }
+    }
+    let sigma = var_of_sum.sqrt();
+    for t in [0.0, 50.0] {
+        let s = step(&mut core, &cfg, t);
+        let h: Vec<f64> = s.cascades[0]
+            .displacement
+            .iter()
+            .map(|d| d[1] as f64)
+            .collect();
+        let mean = h.iter().sum::<f64>() / h.len() as f64;
+        let var = h.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / h.len() as f64;
+        assert!(
+            mean.abs() < 1e-6 * var.sqrt().max(1e-9) + 1e-6,
+            "DC must be zero: {mean}"
+        );
+        assert!(
+            (var - expected).abs() < 5.0 * sigma,
+            "t={t}: sample variance {var} vs spectrum {expected} ± {sigma}"
+        );
+    }
+    // The discrete spectrum carries the continuous JONSWAP variance (the grid truncates the
+    // tail beyond its Nyquist frequency, ~2% here).
+    let (u, fetch) = (cfg.waves.wind_speed, 100_000.0);
+    let steps = 200_000;
+    let (w0, w1) = (0.05, 40.0);
+    let dw = (w1 - w0) / steps as f64;
+    let m0: f64 = (0..steps)
+        .map(|i| spectrum::jonswap::density(w0 + (i as f64 + 0.5) * dw, u, fetch, 3.3) * dw)
+        .sum();
+    assert!(
+        (expected / m0 - 1.0).abs() < 0.05,
+        "grid variance {expected} vs ∫S(ω)dω {m0}"
+    );
+}
+
+#[test]
+fn results_are_identical_for_any_thread_count() {
+    let cfg = OceanConfig::default_cascades(128).unwrap();
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut core = SimCore::new(cfg.clone()).unwrap();
+            let mut out = Surfaces::new(&cfg);
+            for i in 0..3 {
+                core.step(1.0 + i as f64 / 72.0, &mut out);
+            }
+            out
+        })
+    };
+    let a = run(1);
+    for threads in [2, 4] {
+        let b = run(threads);
+        for (x, y) in a.cascades.iter().zip(&b.cascades) {
+            let bits = |s: &CascadeSurface| -> Vec<u32> {
+                s.displacement
+                    .iter()
+                    .flatten()
+                    .map(|v| v.to_bits())
+                    .collect()
+            };
+            assert_eq!(bits(x), bits(y), "{threads} threads");
+            assert_eq!(x.normal_foam, y.normal_foam, "{threads} threads");
+        }
+    }
+}
+
+fn assert_finite(s: &Surfaces, what: &str) {
+    for c in &s.cascades {
+        assert!(
+            c.displacement.iter().flatten().all(|v| v.is_finite()),
+            "{what}"
+        );
+        assert!(
+            c.normal_floats.iter().flatten().all(|v| v.is_finite()),
+            "{what}"
+        );
+        assert!(
+            c.displacement_f16.iter().flatten().all(|v| v.is_finite()),
+            "{what}"
+        );
+    }
+}
+
+#[test]
+fn extreme_valid_parameters_stay_finite() {
+    let mut cases: Vec<(String, OceanConfig)> = Vec::new();
+    for n in [16u32, 512] {
+        for patch in [0.5f32, 100_000.0] {
+            for wind in [0.1f32, 60.0] {
+                for chop in [0.0f32, 2.0] {
+                    for depth in [None, Some(0.01f32)] {
+                        for (align, supp) in [(0.0f32, 0.0f32), (1.0, 1.0)] {
+                            let mut c = OceanConfig::single(n, patch).unwrap();
+                            c.waves.wind_speed = wind;
+                            c.waves.choppiness = chop;
+                            c.waves.depth = depth;
+                            c.waves.alignment = align;
+                            c.waves.small_wave_suppression = supp;
+                            c.waves.roughness = align;
+                            if supp > 0.5 {
+                                c.waves.spectrum = SpectrumKind::Jonswap {
+                                    gamma: 10.0,
+                                    fetch_km: 10_000.0,
+                                };
+                            }
+                            cases.push((format!("{n} {patch} {wind} {chop} {depth:?} {align}"), c));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let mut tiny_fetch = OceanConfig::default_cascades(32).unwrap();
+    tiny_fetch.waves.spectrum = SpectrumKind::Jonswap {
+        gamma: 1.0,
+        fetch_km: 1e-6,
+    };
+    cases.push(("tiny fetch".into(), tiny_fetch));
+    for (what, cfg) in cases {
+        cfg.validate().unwrap();
+        let mut core = SimCore::new(cfg.clone()).unwrap();
+        let mut out = Surfaces::new(&cfg);
+        core.step(0.0, &mut out);
+        core.step(1234.5, &mut out);
+        assert_finite(&out, &what);
+    }
+}
+
+#[test]
+fn height_queries_invert_the_choppy_displacement() {
+    let mut cfg = OceanConfig::single(128, 80.0).unwrap();
+    cfg.waves.choppiness = 1.0;
+    cfg.waves.wind_speed = 8.0;
+    let mut core = SimCore::new(cfg.clone()).unwrap();
+    let s = step(&mut core, &cfg, 42.0);
+    let c = &s.cascades[0];
+    let n = 128;
+    let texel = 80.0 / n as f32;
+    let mut worst = 0.0f32;
+    let mut checked = 0;
+    for row in (0..n).step_by(3) {
+        for col in (0..n).step_by(3) {
+            let d = c.displacement[row * n + col];
+            if d[3] < 0.2 {
+                continue; // folded or nearly folded: the surface has several heights here
+            }
+            // The water at rest position p sits at p + D(p) with height h(p).
+            let (x, z) = (col as f32 * texel + d[0], row as f32 * texel + d[2]);
+            let h = s.height_at(x + 3.0 * 80.0, z - 80.0); // any patch repeat
+            worst = worst.max((h - d[1]).abs());
+            checked += 1;
+        }
+    }
+    assert!(checked > 1000);
+    assert!(worst < 0.01, "worst height error {worst} m");
+    // Batch form equals the single form.
+    let pts = [[1.0f32, 2.0], [-30.0, 17.5], [400.0, -900.0]];
+    let batch: Vec<f32> = s.heights_at(&pts).collect();
+    for (p, h) in pts.iter().zip(batch) {
+        assert_eq!(h, s.height_at(p[0], p[1]));
+    }
+}
+
+#[test]
+fn multi_cascade_height_queries_land_on_the_surface() {
+    let cfg = OceanConfig::default_cascades(64).unwrap();
+    let mut core = SimCore::new(cfg.clone()).unwrap();
+    let s = step(&mut core, &cfg, 5.0);
+    for i in 0..200 {
+        let (x, z) = (i as f32 * 3.7 - 300.0, i as f32 * -1.3 + 50.0);
+        let (px, pz) = vr_ocean::sim::query::rest_position(&s.cascades, x, z);
+        let d = vr_ocean::sim::query::displacement_at(&s.cascades, px, pz);
+        let miss = ((px + d[0] - x).powi(2) + (pz + d[2] - z).powi(2)).sqrt();
+        // Converged wherever the summed surface is not folded.
+        assert!(
+            miss < 0.01 || d[1].abs() > 0.0 && miss < 0.5,
+            "({x}, {z}) missed by {miss} m"
+        );
+    }
+}
+
+#[test]
+fn foam_accumulates_where_waves_break_and_decays() {
+    let mut cfg = OceanConfig::single(64, 30.0).unwrap();
+    cfg.waves.choppiness = 2.0;
+    cfg.waves.wind_speed = 20.0;
+    cfg.waves.foam = FoamParams {
+        threshold: 0.5,
+        growth: 5.0,
+        decay: 0.5,
+    };
+    let mut core = SimCore::new(cfg.clone()).unwrap();
+    let mut out = Surfaces::new(&cfg);
+    let mut t = 0.0;
+    let mut coverage = Vec::new();
+    for _ in 0..60 {
+        t += 1.0 / 30.0;
+        core.step(t, &mut out);
+        let c = &out.cascades[0];
+        let breaking = c.displacement.iter().filter(|d| d[3] < 0.5).count();
+        let foam: f32 = (0..c.displacement.len()).map(|i| c.foam(i)).sum();
+        coverage.push((breaking, foam));
+    }
+    assert!(
+        coverage.iter().any(|&(b, _)| b > 0),
+        "this sea state must break somewhere"
+    );
+    assert!(
+        coverage.last().unwrap().1 > coverage[0].1,
+        "foam accumulates: {coverage:?}"
+    );
+    // Switch breaking off: foam only decays.
+    let mut calm = cfg.waves;
+    calm.foam.threshold = 0.0;
+    calm.choppiness = 0.0;
+    core.set_waves(calm).unwrap();
+    let before: f32 = (0..64 * 64).map(|i| out.cascades[0].foam(i)).sum();
+    core.step(t + 1.0, &mut out);
+    let after: f32 = (0..64 * 64).map(|i| out.cascades[0].foam(i)).sum();
+    let expect = before * (-0.5f32).exp();
+    assert!(
+        (after - expect).abs() <= 1e-3 * before.max(1.0),
+        "{after} vs {expect}"
+    );
+}
