@@ -44,58 +44,58 @@ enum SpectrumArg {
 #[derive(Args, Clone)]
 struct OceanArgs {
     /// FFT grid side: a power of two from 16 to 1024.
-    #[arg(long, default_value_t = 256)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 256)]
     grid: u32,
     /// Patch size of each cascade in metres, coarsest first (1 to 4, comma-separated).
-    #[arg(long, value_delimiter = ',', default_values_t = [257.0, 69.5, 16.1])]
+    #[arg(long, allow_negative_numbers = true, value_delimiter = ',', default_values_t = [257.0, 69.5, 16.1])]
     patch: Vec<f32>,
     /// Wind speed at 10 m (m/s).
-    #[arg(long, default_value_t = 10.0)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 10.0)]
     wind: f32,
     /// Wind direction (degrees from +x toward +z).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.0)]
     wind_dir: f32,
     /// Directional alignment α in [0, 1].
-    #[arg(long, default_value_t = 0.8)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.8)]
     alignment: f32,
     /// Choppiness λ in [0, 2].
-    #[arg(long, default_value_t = 0.9)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.9)]
     choppiness: f32,
     /// Water depth (m); deep water when omitted.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     depth: Option<f32>,
     /// Wave spectrum.
     #[arg(long, value_enum, default_value_t = SpectrumArg::Phillips)]
     spectrum: SpectrumArg,
     /// Phillips amplitude multiplier.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1.0)]
     amplitude: f32,
     /// JONSWAP peak enhancement γ.
-    #[arg(long, default_value_t = 3.3)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 3.3)]
     gamma: f32,
     /// JONSWAP fetch (km).
-    #[arg(long, default_value_t = 100.0)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 100.0)]
     fetch: f32,
     /// Small-wave suppression β in [0, 1].
-    #[arg(long, default_value_t = 0.2)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.2)]
     suppression: f32,
     /// Loop period T (s): the animation repeats exactly after T.
-    #[arg(long, default_value_t = 200.0)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 200.0)]
     loop_period: f32,
     /// Material roughness in [0, 1].
-    #[arg(long, default_value_t = 0.1)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.1)]
     roughness: f32,
     /// Random seed.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
     seed: u64,
     /// Jacobian below which foam forms.
-    #[arg(long, default_value_t = FoamParams::default().threshold)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = FoamParams::default().threshold)]
     foam_threshold: f32,
     /// Foam growth rate (1/s).
-    #[arg(long, default_value_t = FoamParams::default().growth)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = FoamParams::default().growth)]
     foam_growth: f32,
     /// Foam decay rate (1/s).
-    #[arg(long, default_value_t = FoamParams::default().decay)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = FoamParams::default().decay)]
     foam_decay: f32,
 }
 
@@ -141,7 +141,7 @@ struct SimulateArgs {
     #[command(flatten)]
     ocean: OceanArgs,
     /// Simulated seconds to run.
-    #[arg(long, default_value_t = 10.0)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 10.0)]
     seconds: f64,
     /// Steps per simulated second (the headset's refresh rate).
     #[arg(long, default_value_t = 72.0)]
@@ -163,7 +163,12 @@ struct ExportArgs {
     #[command(flatten)]
     ocean: OceanArgs,
     /// Times (s) to export, comma-separated.
-    #[arg(long, value_delimiter = ',', required = true)]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        value_delimiter = ',',
+        required = true
+    )]
     time: Vec<f64>,
     /// Output directory (created if missing).
     #[arg(long)]

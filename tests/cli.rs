@@ -1,0 +1,184 @@
+//! The command line: bad input gives a clear error and a non-zero exit, never a panic; export
+//! writes files other tools can read.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn vr_ocean(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_vr-ocean"))
+        .args(args)
+        .env("RUST_BACKTRACE", "0")
+        .output()
+        .expect("the binary runs")
+}
+
+fn scratch_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("vr-ocean-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn assert_rejected(args: &[&str], names: &[&str]) {
+    let out = vr_ocean(args);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{args:?} must fail");
+    assert_ne!(out.status.code(), Some(101), "{args:?} panicked: {err}");
+    assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+    for n in names {
+        assert!(
+            err.contains(n),
+            "{args:?}: error should mention {n:?}: {err}"
+        );
+    }
+}
+
+#[test]
+fn bad_parameters_are_named_with_their_valid_range() {
+    let dir = scratch_dir("bad");
+    let out = dir.to_str().unwrap();
+    let base = ["export", "--time", "0", "--out", out];
+    let with = |extra: &[&'static str]| -> Vec<&str> {
+        let mut v: Vec<&str> = base.to_vec();
+        v.extend_from_slice(extra);
+        v
+    };
+    assert_rejected(&with(&["--grid", "100"]), &["grid", "power of two"]);
+    assert_rejected(&with(&["--grid", "2048"]), &["grid", "1024"]);
+    assert_rejected(&with(&["--wind", "0"]), &["wind", "> 0"]);
+    assert_rejected(&with(&["--wind", "NaN"]), &["wind", "NaN"]);
+    assert_rejected(&with(&["--depth", "-2"]), &["depth", "> 0"]);
+    assert_rejected(&with(&["--depth", "0"]), &["depth"]);
+    assert_rejected(&with(&["--choppiness=-0.5"]), &["choppiness", "[0, 2]"]);
+    assert_rejected(&with(&["--patch=-10"]), &["patch", "> 0"]);
+    assert_rejected(&with(&["--patch", "10,20"]), &["patch", "decreasing"]);
+    assert_rejected(&with(&["--alignment", "inf"]), &["alignment"]);
+    assert_rejected(
+        &with(&["--spectrum", "jonswap", "--fetch", "nan"]),
+        &["fetch"],
+    );
+    assert_rejected(&["export", "--time", "nan", "--out", out], &["time"]);
+    assert_rejected(&["simulate", "--seconds", "-1"], &["seconds"]);
+    assert_rejected(
+        &["simulate", "--threads", "0", "--seconds", "0.1"],
+        &["threads"],
+    );
+    assert_rejected(&["bench", "--sizes", "48"], &["grid", "power of two"]);
+    // Nothing was written for rejected runs.
+    assert!(!dir.exists());
+}
+
+#[test]
+fn unwritable_output_is_a_clear_error() {
+    let file = scratch_dir("blocker");
+    std::fs::write(&file, b"a file, not a directory").unwrap();
+    let under_file = file.join("out");
+    assert_rejected(
+        &[
+            "export",
+            "--grid",
+            "16",
+            "--time",
+            "0",
+            "--out",
+            under_file.to_str().unwrap(),
+        ],
+        &["cannot write", "out"],
+    );
+    std::fs::remove_file(&file).unwrap();
+}
+
+#[test]
+fn simulate_runs_and_reports() {
+    let out = vr_ocean(&[
+        "simulate",
+        "--grid",
+        "32",
+        "--seconds",
+        "0.2",
+        "--threads",
+        "2",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("Hs"), "{text}");
+}
+
+fn read_npy(path: &std::path::Path) -> (Vec<u64>, Vec<f32>) {
+    let bytes = std::fs::read(path).unwrap();
+    let npy = npyz::NpyFile::new(&bytes[..]).unwrap();
+    let shape = npy.shape().to_vec();
+    (shape, npy.into_vec::<f32>().unwrap())
+}
+
+#[test]
+fn export_writes_npy_and_exr_that_read_back() {
+    let dir = scratch_dir("export");
+    let out = vr_ocean(&[
+        "export",
+        "--grid",
+        "32",
+        "--patch",
+        "50",
+        "--wind",
+        "8",
+        "--time",
+        "0,1.5",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for t in ["t0.000", "t1.500"] {
+        let (shape, h) = read_npy(&dir.join(format!("{t}_height.npy")));
+        assert_eq!(shape, vec![32, 32]);
+        assert!(h.iter().all(|v| v.is_finite()));
+        assert!(h.iter().any(|&v| v != 0.0));
+        let (nshape, normals) = read_npy(&dir.join(format!("{t}_normals.npy")));
+        assert_eq!(nshape, vec![32, 32, 3]);
+        for n in normals.chunks(3) {
+            let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+            assert!((l - 1.0).abs() < 1e-4 && n[1] > 0.0);
+        }
+        for f in ["dx", "dz", "jacobian", "foam"] {
+            assert_eq!(read_npy(&dir.join(format!("{t}_{f}.npy"))).0, vec![32, 32]);
+        }
+        // The EXR holds the same height values, bit for bit.
+        let img =
+            exr::prelude::read_all_flat_layers_from_file(dir.join(format!("{t}.exr"))).unwrap();
+        let layer = &img.layer_data[0];
+        let ch = layer
+            .channel_data
+            .list
+            .iter()
+            .find(|c| c.name.to_string() == "height")
+            .expect("height channel");
+        let values: Vec<f32> = ch.sample_data.values_as_f32().collect();
+        assert_eq!(values, h);
+        let names: Vec<String> = layer
+            .channel_data
+            .list
+            .iter()
+            .map(|c| c.name.to_string())
+            .collect();
+        for want in ["dx", "dz", "jacobian", "normal.x", "normal.y", "normal.z"] {
+            assert!(names.iter().any(|n| n == want), "{names:?}");
+        }
+    }
+    // Different times differ; no temporary files are left behind.
+    assert_ne!(
+        read_npy(&dir.join("t0.000_height.npy")).1,
+        read_npy(&dir.join("t1.500_height.npy")).1
+    );
+    for e in std::fs::read_dir(&dir).unwrap() {
+        let name = e.unwrap().file_name().into_string().unwrap();
+        assert!(!name.ends_with(".partial"), "{name}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
