@@ -1,1 +1,79 @@
-fn main() {}
+//! Criterion benchmarks of the simulation pipeline: each stage and the whole step for
+//! N = 128, 256, 512 on 1 and 2 threads (one cascade = four inverse 2D FFTs per step).
+//! `cargo bench --bench sim`; FFT-only comparisons with rustfft and FFTW are in `benches/fft.rs`.
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+
+use vr_ocean::sim::evolve::{self, LoopPhase};
+use vr_ocean::sim::fft::Fft2d;
+use vr_ocean::sim::spectrum::{cascade_bands, CascadeSpec, PackedSpectrum};
+use vr_ocean::sim::surface::{self, CascadeSurface, SurfaceParams};
+use vr_ocean::sim::{AlignedBuf, OceanConfig, SimCore, SplitField, Surfaces};
+
+fn stages(c: &mut Criterion) {
+    for n in [128u32, 256, 512] {
+        for threads in [1usize, 2] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let cfg = OceanConfig::single(n, 250.0).unwrap();
+            let grid = cfg.grid;
+            let spec = CascadeSpec {
+                index: 0,
+                patch: 250.0,
+                band: cascade_bands(&cfg.patch_sizes, grid)[0],
+                grid,
+            };
+            let spectrum = pool.install(|| PackedSpectrum::generate(&cfg.waves, &spec));
+            let fft = Fft2d::new(grid);
+            let mut fields: [SplitField; 4] = std::array::from_fn(|_| SplitField::zeros(grid));
+            let mut scratch: [SplitField; 4] = std::array::from_fn(|_| SplitField::zeros(grid));
+            let mut out = CascadeSurface::new(grid, 250.0);
+            let mut foam = AlignedBuf::zeros(grid.texels());
+            let params = SurfaceParams {
+                choppiness: cfg.waves.choppiness,
+                roughness: cfg.waves.roughness,
+                foam: cfg.waves.foam,
+                dt: 1.0 / 72.0,
+            };
+            let id = |what: &str| BenchmarkId::new(what, format!("N{n}/t{threads}"));
+            let mut g = c.benchmark_group("sim");
+            g.bench_function(id("stage1_spectrum"), |b| {
+                b.iter(|| pool.install(|| PackedSpectrum::generate(&cfg.waves, &spec)))
+            });
+            g.bench_function(id("stage2_evolve"), |b| {
+                b.iter(|| {
+                    pool.install(|| {
+                        evolve::evolve(&spectrum, 250.0, LoopPhase::new(3.0, 200.0), &mut fields)
+                    })
+                })
+            });
+            g.bench_function(id("stage3_4_fft4"), |b| {
+                b.iter(|| pool.install(|| fft.inverse_batch(&mut fields, &mut scratch)))
+            });
+            g.bench_function(id("stage5_6_surface"), |b| {
+                b.iter(|| {
+                    pool.install(|| surface::finalize(&fields, &mut foam, params, 3.0, &mut out))
+                })
+            });
+            let mut core = pool.install(|| SimCore::new(cfg.clone()).unwrap());
+            let mut surfaces = Surfaces::new(&cfg);
+            let mut t = 0.0;
+            g.bench_function(id("step"), |b| {
+                b.iter(|| {
+                    t += 1.0 / 72.0;
+                    pool.install(|| core.step(t, &mut surfaces))
+                })
+            });
+            g.finish();
+        }
+    }
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(20);
+    targets = stages
+}
+criterion_main!(benches);

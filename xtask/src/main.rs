@@ -76,14 +76,14 @@ const STEPS: &[Step] = &[
     },
     Step {
         name: "test (aarch64/qemu)",
-        header: "CROSS: lib tests `sim::` for aarch64-unknown-linux-gnu (NEON path) under qemu-aarch64-static",
+        header: "CROSS: sim unit tests and sim_physics for aarch64-unknown-linux-gnu (NEON path) under qemu-aarch64-static",
         cargo_args: &[
             "test",
             "--lib",
+            "--test",
+            "sim_physics",
             "--target",
             CROSS_TARGET,
-            "--",
-            "sim::",
         ],
         slow: true,
     },
@@ -100,7 +100,7 @@ commands:
           cargo fmt --all -- --check
           cargo clippy --workspace --all-targets -- -D warnings
           cargo test --workspace
-          cargo test --lib --target aarch64-unknown-linux-gnu -- sim::   (qemu)
+          cargo test --lib --test sim_physics --target aarch64-unknown-linux-gnu   (qemu)
         --quick      skip the aarch64 cross step
         --no-setup   install nothing; only run the checks
   run [ARGS...]
