@@ -16,6 +16,7 @@
 use rayon::prelude::*;
 
 use crate::sim::grid::SplitField;
+use crate::sim::simd::dispatch;
 use crate::sim::spectrum::PackedSpectrum;
 use crate::sim::trig::sincos_turns;
 
@@ -44,9 +45,10 @@ impl LoopPhase {
     /// frac(n·u) in turns for harmonic `n`.
     #[inline(always)]
     fn turns(self, n: u32) -> f32 {
-        let exact = (n.wrapping_mul(self.hi) & ((1 << PHASE_BITS) - 1)) as f32
+        // Through i32: both values are < 2²⁴, and i32 → f32 is one SIMD instruction.
+        let exact = (n.wrapping_mul(self.hi) & ((1 << PHASE_BITS) - 1)) as i32 as f32
             * (1.0 / (1u32 << PHASE_BITS) as f32);
-        exact + n as f32 * self.lo
+        exact + n as i32 as f32 * self.lo
     }
 }
 
@@ -87,6 +89,60 @@ pub fn height_spectrum(spectrum: &PackedSpectrum, phase: LoopPhase, out: &mut Sp
         });
 }
 
+/// One row of the evolution: inputs, outputs and the row's constants.
+struct EvolveRow<'a> {
+    s: [&'a [f32]; 4],
+    harm: &'a [u32],
+    out: [&'a mut [f32]; 8],
+    phase: LoopPhase,
+    dk: f32,
+    gz: f32,
+    half: f32,
+}
+
+#[inline(always)]
+fn evolve_row_kernel(row: EvolveRow<'_>) {
+    let n = row.harm.len();
+    let s = [
+        &row.s[0][..n],
+        &row.s[1][..n],
+        &row.s[2][..n],
+        &row.s[3][..n],
+    ];
+    let [r0, i0, r1, i1, r2, i2, r3, i3] = row.out;
+    // Exact-length slices let the compiler drop bounds checks and vectorize.
+    let (r0, i0, r1, i1) = (&mut r0[..n], &mut i0[..n], &mut r1[..n], &mut i1[..n]);
+    let (r2, i2, r3, i3) = (&mut r2[..n], &mut i2[..n], &mut r3[..n], &mut i3[..n]);
+    let (dk, gz, half) = (row.dk, row.gz, row.half);
+    let kz = gz * dk;
+    for col in 0..n {
+        let (sin, cos) = sincos_turns(row.phase.turns(row.harm[col]));
+        let (hr, hi) = evolved(&s, col, sin, cos);
+        // Unit wave direction with the DC-safe rsqrt of eq. 28 (grid units).
+        let gx = col as i32 as f32 - half;
+        let inv = 1.0 / (gx * gx + gz * gz).max(1.0).sqrt();
+        let (ux, uz) = (gx * inv, gz * inv);
+        let kx = gx * dk;
+        // Field 0: h̃·(1 − uₓ).
+        let f = 1.0 - ux;
+        r0[col] = hr * f;
+        i0[col] = hi * f;
+        // Field 1: h̃·(−kₓ + i·u_z).
+        r1[col] = -hr * kx - hi * uz;
+        i1[col] = hr * uz - hi * kx;
+        // Field 2: i·h̃·(k_z − kₓ·uₓ).
+        let g = kz - kx * ux;
+        r2[col] = -hi * g;
+        i2[col] = hr * g;
+        // Field 3: −k_z·h̃·(u_z + i·uₓ).
+        let (p, q) = (kz * uz, kz * ux);
+        r3[col] = hi * q - hr * p;
+        i3[col] = -(hr * q + hi * p);
+    }
+}
+
+dispatch!(fn evolve_row(row: EvolveRow<'_>) => evolve_row_kernel);
+
 /// Writes the four packed field spectra at loop phase `phase` (eq. 24) for a cascade of patch
 /// size `patch` (m). Parallel over rows on the current Rayon pool; element-wise, so the output
 /// is the same for any thread count.
@@ -113,39 +169,20 @@ pub fn evolve(
         .enumerate();
     outs.for_each(|(row, ((((r0, i0), (r1, i1)), (r2, i2)), (r3, i3)))| {
         let base = row * n;
-        let s = [
-            &spectrum.s[0][base..base + n],
-            &spectrum.s[1][base..base + n],
-            &spectrum.s[2][base..base + n],
-            &spectrum.s[3][base..base + n],
-        ];
-        let harm = &spectrum.harmonic[base..base + n];
-        let gz = row as f32 - half;
-        let kz = gz * dk;
-        for col in 0..n {
-            let (sin, cos) = sincos_turns(phase.turns(harm[col]));
-            let (hr, hi) = evolved(&s, col, sin, cos);
-            // Unit wave direction with the DC-safe rsqrt of eq. 28 (grid units).
-            let gx = col as f32 - half;
-            let inv = 1.0 / (gx * gx + gz * gz).max(1.0).sqrt();
-            let (ux, uz) = (gx * inv, gz * inv);
-            let kx = gx * dk;
-            // Field 0: h̃·(1 − uₓ).
-            let f = 1.0 - ux;
-            r0[col] = hr * f;
-            i0[col] = hi * f;
-            // Field 1: h̃·(−kₓ + i·u_z).
-            r1[col] = -hr * kx - hi * uz;
-            i1[col] = hr * uz - hi * kx;
-            // Field 2: i·h̃·(k_z − kₓ·uₓ).
-            let g = kz - kx * ux;
-            r2[col] = -hi * g;
-            i2[col] = hr * g;
-            // Field 3: −k_z·h̃·(u_z + i·uₓ).
-            let (p, q) = (kz * uz, kz * ux);
-            r3[col] = hi * q - hr * p;
-            i3[col] = -(hr * q + hi * p);
-        }
+        evolve_row(EvolveRow {
+            s: [
+                &spectrum.s[0][base..base + n],
+                &spectrum.s[1][base..base + n],
+                &spectrum.s[2][base..base + n],
+                &spectrum.s[3][base..base + n],
+            ],
+            harm: &spectrum.harmonic[base..base + n],
+            out: [r0, i0, r1, i1, r2, i2, r3, i3],
+            phase,
+            dk,
+            gz: row as f32 - half,
+            half,
+        });
     });
 }
 

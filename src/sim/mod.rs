@@ -13,6 +13,7 @@ pub mod pack;
 pub mod params;
 pub mod pipeline;
 pub mod query;
+pub mod simd;
 pub mod spectrum;
 pub mod surface;
 pub mod trig;

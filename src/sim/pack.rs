@@ -11,23 +11,29 @@ pub fn normal_length(roughness: f32) -> f32 {
 }
 
 /// Smoothness from an averaged (unnormalized) normal's length (eq. 53): [2/3, 1] ↦ [0, 1].
-#[inline]
+#[inline(always)]
 pub fn smoothness(normal_length: f32) -> f32 {
-    let t = ((normal_length - 2.0 / 3.0) * 3.0).clamp(0.0, 1.0);
+    // (|n| − 2/3)/(1/3) written as 3|n| − 2, exact at |n| = 1.
+    let t = (3.0 * normal_length - 2.0).clamp(0.0, 1.0);
     let r = 1.0 - t * (0.85 + 0.15 * t);
     1.0 - r.max(0.0).sqrt()
 }
 
-/// Quantizes a [0, 1] value to 8 bits with rounding (eq. 50).
-#[inline]
+/// 1.5·2²³: adding it to x ∈ [0, 2²²) leaves round(x) in the low mantissa bits.
+const ROUND_MAGIC: f32 = 12_582_912.0;
+
+/// Quantizes a [0, 1] value to 8 bits, rounding to nearest (eq. 50's ⌊v·255 + 0.5⌋ except
+/// that exact ties go to even, as GPUs convert UNORM). Done with a float add and a bit mask
+/// instead of a saturating float-to-int cast, so the surface loop vectorizes.
+#[inline(always)]
 fn unorm8(v: f32) -> u32 {
-    (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u32
+    (v.clamp(0.0, 1.0) * 255.0 + ROUND_MAGIC).to_bits() & 0xff
 }
 
 /// RGBA8 texel (eq. 50-51): R, G = unit normal x, z mapped from [−1, 1]; B = foam coverage
 /// (the persistent foam replaces eq. 50's raw Jacobian, which is kept in the displacement
 /// texture's alpha); A = smoothness. R is the lowest byte.
-#[inline]
+#[inline(always)]
 pub fn pack_rgba8(nx: f32, nz: f32, foam: f32, smoothness: f32) -> u32 {
     unorm8(nx * 0.5 + 0.5)
         | (unorm8(nz * 0.5 + 0.5) << 8)

@@ -8,6 +8,7 @@ use rayon::prelude::*;
 use crate::sim::grid::{GridSize, SplitField};
 use crate::sim::pack;
 use crate::sim::params::FoamParams;
+use crate::sim::simd::dispatch;
 
 /// Everything one cascade publishes per step, in GPU upload formats plus float copies for CPU
 /// queries and export. Allocated once; every step overwrites it in place.
@@ -76,6 +77,106 @@ pub struct SurfaceParams {
     pub dt: f32,
 }
 
+/// Constants of the surface stage for one step.
+#[derive(Clone, Copy)]
+struct SurfaceConsts {
+    lambda: f32,
+    keep: f32,
+    grow: f32,
+    threshold: f32,
+    len: f32,
+    smooth: f32,
+}
+
+/// One row of the surface stage.
+struct SurfaceRow<'a> {
+    fields: [&'a [f32]; 8],
+    disp: &'a mut [[f32; 4]],
+    floats: &'a mut [[f32; 4]],
+    rgba: &'a mut [u32],
+    foam: &'a mut [f32],
+    row_sign: f32,
+    k: SurfaceConsts,
+}
+
+#[inline(always)]
+fn surface_row_kernel(row: SurfaceRow<'_>) -> [f32; 3] {
+    let n = row.disp.len();
+    let [f0r, f0i, f1r, f1i, f2r, f2i, f3r, f3i] = row.fields;
+    // Exact-length slices let the compiler drop bounds checks and vectorize.
+    let (f0r, f0i, f1r, f1i) = (&f0r[..n], &f0i[..n], &f1r[..n], &f1i[..n]);
+    let (f2r, f2i, f3r, f3i) = (&f2r[..n], &f2i[..n], &f3r[..n], &f3i[..n]);
+    let (floats, rgba, foam) = (&mut row.floats[..n], &mut row.rgba[..n], &mut row.foam[..n]);
+    let disp = row.disp;
+    let k = row.k;
+    // Maxima of |Dx|, |h|, |Dz| as the bits of non-negative floats, whose integer order is
+    // their numeric order: an integer max reduction vectorizes, a float one does not.
+    let mut m = [0u32; 3];
+    for col in 0..n {
+        // (−1)^(x+y) undoes the centred spectrum (eq. 42-43).
+        let s = if col & 1 == 0 {
+            row.row_sign
+        } else {
+            -row.row_sign
+        };
+        let h = f0r[col] * s;
+        let ls = -k.lambda * s;
+        let dx = ls * f0i[col];
+        let dz = ls * f1r[col];
+        let hx = f1i[col] * s;
+        let hz = f2r[col] * s;
+        let dxx = ls * f2i[col];
+        let dzz = ls * f3r[col];
+        let dxz = ls * f3i[col];
+        // Jacobian of the horizontal map x ↦ x + D(x) (eq. 48); ∂Dz/∂x = ∂Dx/∂z.
+        let (jxx, jzz) = (1.0 + dxx, 1.0 + dzz);
+        let j = jxx * jzz - dxz * dxz;
+        // Normal of the displaced surface: ∂P/∂z × ∂P/∂x with P = x + (Dx, h, Dz); for λ = 0
+        // this is eq. 47's (−∂h/∂x, 1, −∂h/∂z). Folded texels (J < 0) flip so the normal keeps
+        // facing up.
+        let flip = if j < 0.0 { -1.0 } else { 1.0 };
+        let nx = (hz * dxz - jzz * hx) * flip;
+        let ny = j * flip;
+        let nz = (dxz * hx - jxx * hz) * flip;
+        let l2 = nx * nx + ny * ny + nz * nz;
+        // A degenerate normal (exact fold edge) becomes straight up.
+        let ok = l2 > 1e-20;
+        let inv = if ok { 1.0 / l2.sqrt() } else { 0.0 };
+        let (nx, ny, nz) = (nx * inv, if ok { ny * inv } else { 1.0 }, nz * inv);
+        let f = (foam[col] * k.keep + k.grow * (k.threshold - j).max(0.0)).min(1.0);
+        foam[col] = f;
+        disp[col] = [dx, h, dz, j];
+        floats[col] = [nx * k.len, ny * k.len, nz * k.len, f];
+        rgba[col] = pack::pack_rgba8(nx, nz, f, k.smooth);
+        let abs_bits = |v: f32| v.to_bits() & 0x7fff_ffff;
+        m = [
+            m[0].max(abs_bits(dx)),
+            m[1].max(abs_bits(h)),
+            m[2].max(abs_bits(dz)),
+        ];
+    }
+    m.map(f32::from_bits)
+}
+
+#[inline(always)]
+fn surface_row_into(row: SurfaceRow<'_>, max: &mut [f32; 3]) {
+    *max = surface_row_kernel(row);
+}
+
+dispatch!(
+    /// [`surface_row_kernel`] behind runtime ISA dispatch; stores the row's max |Dx|, |h|, |Dz|.
+    fn surface_row(row: SurfaceRow<'_>, max: &mut [f32; 3]) => surface_row_into
+);
+
+/// Row `b / n` of one plane of `f`.
+fn plane_row(f: &SplitField, im: bool, b: usize, n: usize) -> &[f32] {
+    if im {
+        &f.im[b..b + n]
+    } else {
+        &f.re[b..b + n]
+    }
+}
+
 /// Stage 5-6 for one cascade: reads the transformed `fields` (see [`crate::sim::evolve`] for
 /// their contents), updates the persistent `foam` state and fills `out` including mips.
 pub fn finalize(
@@ -86,17 +187,15 @@ pub fn finalize(
     out: &mut CascadeSurface,
 ) {
     let n = out.grid.n();
-    let lambda = p.choppiness;
-    let keep = (-p.foam.decay * p.dt).exp();
-    let grow = p.foam.growth * p.dt;
     let len = pack::normal_length(p.roughness);
-    let smooth = pack::smoothness(len);
-    let planes = [
-        (&fields[0].re[..], &fields[0].im[..]),
-        (&fields[1].re[..], &fields[1].im[..]),
-        (&fields[2].re[..], &fields[2].im[..]),
-        (&fields[3].re[..], &fields[3].im[..]),
-    ];
+    let k = SurfaceConsts {
+        lambda: p.choppiness,
+        keep: (-p.foam.decay * p.dt).exp(),
+        grow: p.foam.growth * p.dt,
+        threshold: p.foam.threshold,
+        len,
+        smooth: pack::smoothness(len),
+    };
     let (level0_floats, _) = out.normal_floats.split_at_mut(n * n);
     let (level0_rgba, _) = out.normal_foam.split_at_mut(n * n);
     out.displacement
@@ -106,48 +205,28 @@ pub fn finalize(
         .zip(foam.par_chunks_mut(n))
         .zip(out.row_max.par_iter_mut())
         .enumerate()
-        .for_each(|(row, ((((disp, nf), rgba), foam), rmax))| {
-            let base = row * n;
-            let mut m = [0.0f32; 3];
-            for col in 0..n {
-                let i = base + col;
-                // (−1)^(x+y) undoes the centred spectrum (eq. 42-43).
-                let s = if (row + col) & 1 == 0 { 1.0 } else { -1.0 };
-                let h = planes[0].0[i] * s;
-                let dx = -lambda * planes[0].1[i] * s;
-                let dz = -lambda * planes[1].0[i] * s;
-                let hx = planes[1].1[i] * s;
-                let hz = planes[2].0[i] * s;
-                let dxx = -lambda * planes[2].1[i] * s;
-                let dzz = -lambda * planes[3].0[i] * s;
-                let dxz = -lambda * planes[3].1[i] * s;
-                // Jacobian of the horizontal map x ↦ x + D(x) (eq. 48); ∂Dz/∂x = ∂Dx/∂z.
-                let (jxx, jzz) = (1.0 + dxx, 1.0 + dzz);
-                let j = jxx * jzz - dxz * dxz;
-                // Normal of the displaced surface: ∂P/∂z × ∂P/∂x with P = x + (Dx, h, Dz);
-                // for λ = 0 this is eq. 47's (−∂h/∂x, 1, −∂h/∂z). Folded texels (J < 0) flip
-                // so the normal keeps facing up.
-                let mut nx = hz * dxz - jzz * hx;
-                let mut ny = j;
-                let mut nz = dxz * hx - jxx * hz;
-                if j < 0.0 {
-                    (nx, ny, nz) = (-nx, -ny, -nz);
-                }
-                let l2 = nx * nx + ny * ny + nz * nz;
-                let (nx, ny, nz) = if l2 > 1e-20 {
-                    let inv = 1.0 / l2.sqrt();
-                    (nx * inv, ny * inv, nz * inv)
-                } else {
-                    (0.0, 1.0, 0.0)
-                };
-                let f = (foam[col] * keep + grow * (p.foam.threshold - j).max(0.0)).min(1.0);
-                foam[col] = f;
-                disp[col] = [dx, h, dz, j];
-                nf[col] = [nx * len, ny * len, nz * len, f];
-                rgba[col] = pack::pack_rgba8(nx, nz, f, smooth);
-                m = [m[0].max(dx.abs()), m[1].max(h.abs()), m[2].max(dz.abs())];
-            }
-            *rmax = m;
+        .for_each(|(row, ((((disp, floats), rgba), foam), rmax))| {
+            let b = row * n;
+            let r = |f, im| plane_row(f, im, b, n);
+            let row = SurfaceRow {
+                fields: [
+                    r(&fields[0], false),
+                    r(&fields[0], true),
+                    r(&fields[1], false),
+                    r(&fields[1], true),
+                    r(&fields[2], false),
+                    r(&fields[2], true),
+                    r(&fields[3], false),
+                    r(&fields[3], true),
+                ],
+                disp,
+                floats,
+                rgba,
+                foam,
+                row_sign: if row & 1 == 0 { 1.0 } else { -1.0 },
+                k,
+            };
+            surface_row(row, rmax);
         });
     out.max_displacement = out.row_max.iter().fold([0.0f32; 3], |a, r| {
         [a[0].max(r[0]), a[1].max(r[1]), a[2].max(r[2])]
@@ -159,6 +238,34 @@ pub fn finalize(
     build_mips(out);
     out.time = time;
 }
+
+/// One destination row of a mip level and the two source rows it averages.
+struct MipRow<'a> {
+    src0: &'a [[f32; 4]],
+    src1: &'a [[f32; 4]],
+    dst: &'a mut [[f32; 4]],
+    rgba: &'a mut [u32],
+}
+
+#[inline(always)]
+fn mip_row_kernel(row: MipRow<'_>) {
+    let side = row.dst.len();
+    let (r0, r1) = (&row.src0[..2 * side], &row.src1[..2 * side]);
+    let rgba = &mut row.rgba[..side];
+    for (x, d) in row.dst.iter_mut().enumerate() {
+        let (a, b, c, e) = (r0[2 * x], r0[2 * x + 1], r1[2 * x], r1[2 * x + 1]);
+        let v: [f32; 4] = std::array::from_fn(|k| 0.25 * (a[k] + b[k] + c[k] + e[k]));
+        *d = v;
+        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        let inv = if l > 1e-20 { 1.0 / l } else { 0.0 };
+        rgba[x] = pack::pack_rgba8(v[0] * inv, v[2] * inv, v[3], pack::smoothness(l));
+    }
+}
+
+dispatch!(
+    /// [`mip_row_kernel`] behind runtime ISA dispatch.
+    fn mip_row(row: MipRow<'_>) => mip_row_kernel
+);
 
 /// Mip levels 1..=log₂N by unnormalized 2×2 box averaging (eq. 52); the averaged normal's
 /// length becomes smoothness (eq. 53) and the RGBA8 texel stores it re-normalized.
@@ -173,26 +280,24 @@ fn build_mips(out: &mut CascadeSurface) {
         let dst = &mut hi[..side * side];
         let rgba = &mut out.normal_foam[dst_off..dst_off + side * side];
         let src_side = side * 2;
-        dst.par_chunks_mut(side)
-            .zip(rgba.par_chunks_mut(side))
+        // Small levels are cheaper than a task hand-off: run them on this thread.
+        let rows_per_task = (4096 / side).max(1);
+        dst.par_chunks_mut(side * rows_per_task)
+            .zip(rgba.par_chunks_mut(side * rows_per_task))
             .enumerate()
-            .for_each(|(y, (drow, prow))| {
-                let r0 = &src[2 * y * src_side..(2 * y + 1) * src_side];
-                let r1 = &src[(2 * y + 1) * src_side..(2 * y + 2) * src_side];
-                for x in 0..side {
-                    let mut v = [0.0f32; 4];
-                    for c in 0..4 {
-                        v[c] = 0.25
-                            * (r0[2 * x][c] + r0[2 * x + 1][c] + r1[2 * x][c] + r1[2 * x + 1][c]);
-                    }
-                    drow[x] = v;
-                    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-                    let (nx, nz) = if l > 1e-20 {
-                        (v[0] / l, v[2] / l)
-                    } else {
-                        (0.0, 0.0)
-                    };
-                    prow[x] = pack::pack_rgba8(nx, nz, v[3], pack::smoothness(l));
+            .for_each(|(task, (drows, prows))| {
+                for (i, (drow, prow)) in drows
+                    .chunks_mut(side)
+                    .zip(prows.chunks_mut(side))
+                    .enumerate()
+                {
+                    let y = task * rows_per_task + i;
+                    mip_row(MipRow {
+                        src0: &src[2 * y * src_side..(2 * y + 1) * src_side],
+                        src1: &src[(2 * y + 1) * src_side..(2 * y + 2) * src_side],
+                        dst: drow,
+                        rgba: prow,
+                    });
                 }
             });
     }
