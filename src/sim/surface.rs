@@ -200,12 +200,13 @@ pub fn finalize(
     let (level0_rgba, _) = out.normal_foam.split_at_mut(n * n);
     out.displacement
         .par_chunks_mut(n)
+        .zip(out.displacement_f16.par_chunks_mut(n))
         .zip(level0_floats.par_chunks_mut(n))
         .zip(level0_rgba.par_chunks_mut(n))
         .zip(foam.par_chunks_mut(n))
         .zip(out.row_max.par_iter_mut())
         .enumerate()
-        .for_each(|(row, ((((disp, floats), rgba), foam), rmax))| {
+        .for_each(|(row, (((((disp, disp16), floats), rgba), foam), rmax))| {
             let b = row * n;
             let r = |f, im| plane_row(f, im, b, n);
             let row = SurfaceRow {
@@ -219,7 +220,7 @@ pub fn finalize(
                     r(&fields[3], false),
                     r(&fields[3], true),
                 ],
-                disp,
+                disp: &mut *disp,
                 floats,
                 rgba,
                 foam,
@@ -227,14 +228,15 @@ pub fn finalize(
                 k,
             };
             surface_row(row, rmax);
+            // The row is still in L1: convert it to RGBA16F here rather than in another pass.
+            half::slice::HalfFloatSliceExt::convert_from_f32_slice(
+                bytemuck::cast_slice_mut::<[f16; 4], f16>(disp16),
+                bytemuck::cast_slice::<[f32; 4], f32>(disp),
+            );
         });
     out.max_displacement = out.row_max.iter().fold([0.0f32; 3], |a, r| {
         [a[0].max(r[0]), a[1].max(r[1]), a[2].max(r[2])]
     });
-    half::slice::HalfFloatSliceExt::convert_from_f32_slice(
-        bytemuck::cast_slice_mut::<[f16; 4], f16>(&mut out.displacement_f16),
-        bytemuck::cast_slice::<[f32; 4], f32>(&out.displacement),
-    );
     build_mips(out);
     out.time = time;
 }
