@@ -1,0 +1,432 @@
+//! The FFT pass, written once over a small SIMD trait and instantiated per backend.
+//!
+//! A pass takes a source field and, strip by strip ([`STRIP`] adjacent columns), runs the 1D
+//! inverse FFT down the columns and writes the result transposed: strip columns `c0..c0+16`
+//! become destination rows `c0..c0+16`. Two passes (field → scratch → field) give the 2D
+//! transform in natural order with no separate transpose.
+//!
+//! Per strip: the first radix-4 stage reads the strided source rows and writes a contiguous
+//! working buffer of [`CRow`]s (real and imaginary vectors of the 16 columns); the other stages
+//! run in place in that buffer (sub-transforms of at most [`L1_ROWS`] rows depth-first, so they stay
+//! in L1); the final store gathers the rows in output order (undoing the digit reversal),
+//! transposes LANES×LANES blocks in registers and writes whole destination row segments.
+//! Lanes always hold adjacent columns, so the butterflies are purely vertical SIMD.
+
+use super::plan::{CRow, Plan, Stage, L1_ROWS, STRIP};
+
+/// The vector operations the kernel needs. Implemented by zero-sized "proof" tokens: a value of
+/// an implementing type exists only if the CPU supports the instructions its methods use, which is
+/// what makes the methods safe to call. All methods are `#[inline(always)]` so they compile into
+/// the `#[target_feature]` entry point that instantiates the kernel.
+pub(super) trait Simd: Copy {
+    /// f32 lanes per vector.
+    const LANES: usize;
+    /// The vector type.
+    type V: Copy;
+    /// All lanes `x`.
+    fn splat(self, x: f32) -> Self::V;
+    /// Loads `s[..LANES]` (panics if `s` is shorter; callers pass slices the compiler can size).
+    fn load(self, s: &[f32]) -> Self::V;
+    /// Stores into `s[..LANES]` (panics if `s` is shorter).
+    fn store(self, s: &mut [f32], v: Self::V);
+    /// `a + b`.
+    fn add(self, a: Self::V, b: Self::V) -> Self::V;
+    /// `a - b`.
+    fn sub(self, a: Self::V, b: Self::V) -> Self::V;
+    /// `a * b`.
+    fn mul(self, a: Self::V, b: Self::V) -> Self::V;
+    /// `a * b + c` (fused where the backend has FMA).
+    fn mul_add(self, a: Self::V, b: Self::V, c: Self::V) -> Self::V;
+    /// `a * b - c` (fused where the backend has FMA).
+    fn mul_sub(self, a: Self::V, b: Self::V, c: Self::V) -> Self::V;
+    /// LANES vectors: a LANES×LANES block of f32, one row per vector.
+    type Block: Copy + AsRef<[Self::V]> + AsMut<[Self::V]>;
+    /// A block of zeros.
+    fn zero_block(self) -> Self::Block;
+    /// The transposed block: lane t of output vector c is lane c of input vector t.
+    fn transpose(self, b: Self::Block) -> Self::Block;
+}
+
+/// A split complex vector: LANES adjacent columns.
+#[derive(Clone, Copy)]
+struct C<V> {
+    re: V,
+    im: V,
+}
+
+/// A complex twiddle factor, broadcast to all lanes.
+#[derive(Clone, Copy)]
+struct Tw<V> {
+    re: V,
+    im: V,
+}
+
+#[inline(always)]
+fn cmul<S: Simd>(s: S, a: C<S::V>, w: Tw<S::V>) -> C<S::V> {
+    C {
+        re: s.mul_sub(a.re, w.re, s.mul(a.im, w.im)),
+        im: s.mul_add(a.re, w.im, s.mul(a.im, w.re)),
+    }
+}
+
+/// Radix-4 inverse butterfly (no twiddles): `y_k = Σ_p x_p·i^(pk)`.
+#[inline(always)]
+fn bfly4<S: Simd>(s: S, x: [C<S::V>; 4]) -> [C<S::V>; 4] {
+    let [a, b, c, d] = x;
+    let t0 = C {
+        re: s.add(a.re, c.re),
+        im: s.add(a.im, c.im),
+    };
+    let t1 = C {
+        re: s.sub(a.re, c.re),
+        im: s.sub(a.im, c.im),
+    };
+    let t2 = C {
+        re: s.add(b.re, d.re),
+        im: s.add(b.im, d.im),
+    };
+    let t3 = C {
+        re: s.sub(b.re, d.re),
+        im: s.sub(b.im, d.im),
+    };
+    [
+        C {
+            re: s.add(t0.re, t2.re),
+            im: s.add(t0.im, t2.im),
+        },
+        // t1 + i·t3
+        C {
+            re: s.sub(t1.re, t3.im),
+            im: s.add(t1.im, t3.re),
+        },
+        C {
+            re: s.sub(t0.re, t2.re),
+            im: s.sub(t0.im, t2.im),
+        },
+        // t1 - i·t3
+        C {
+            re: s.add(t1.re, t3.im),
+            im: s.sub(t1.im, t3.re),
+        },
+    ]
+}
+
+/// Twiddles of radix-4 butterfly `j` of a stage, broadcast.
+#[inline(always)]
+fn tw4<S: Simd>(s: S, tw: &[f32], j: usize) -> [Tw<S::V>; 3] {
+    let w = &tw[6 * j..6 * j + 6];
+    [
+        Tw {
+            re: s.splat(w[0]),
+            im: s.splat(w[1]),
+        },
+        Tw {
+            re: s.splat(w[2]),
+            im: s.splat(w[3]),
+        },
+        Tw {
+            re: s.splat(w[4]),
+            im: s.splat(w[5]),
+        },
+    ]
+}
+
+#[inline(always)]
+fn load_row<S: Simd>(s: S, row: &CRow, o: usize) -> C<S::V> {
+    C {
+        re: s.load(&row.re[o..]),
+        im: s.load(&row.im[o..]),
+    }
+}
+
+#[inline(always)]
+fn store_row<S: Simd>(s: S, row: &mut CRow, o: usize, v: C<S::V>) {
+    s.store(&mut row.re[o..], v.re);
+    s.store(&mut row.im[o..], v.im);
+}
+
+/// Splits `rows` into four equal quarters.
+#[inline(always)]
+fn quarters(rows: &mut [CRow]) -> [&mut [CRow]; 4] {
+    let q = rows.len() / 4;
+    let (a, rest) = rows.split_at_mut(q);
+    let (b, rest) = rest.split_at_mut(q);
+    let (c, d) = rest.split_at_mut(q);
+    [a, b, c, &mut d[..q]]
+}
+
+/// Floats in one STRIP×STRIP tile of the intermediate layout.
+const TILE: usize = STRIP * STRIP;
+
+/// One pass's worth of work: some strips of one field. Chunk k of `dst_*` (each chunk
+/// `STRIP·N` floats) receives strip `first_strip + k` of the source, transformed and transposed.
+///
+/// The intermediate (pass 1 → pass 2) is tiled so that pass 2 reads it in 1 KiB runs: pass 1's
+/// strip k owns chunk k, made of N/STRIP tiles; tile b holds outputs `STRIP·b ..` as STRIP
+/// vectors, one per strip column (that is, already transposed).
+pub(super) struct Job<'a> {
+    /// Source real plane (the whole N×N field, or the whole tiled intermediate in pass 2).
+    pub src_re: &'a [f32],
+    /// Source imaginary plane.
+    pub src_im: &'a [f32],
+    /// Destination real chunks of strips `first_strip ..`, a multiple of `STRIP·N` floats.
+    pub dst_re: &'a mut [f32],
+    /// Destination imaginary chunks, same extent.
+    pub dst_im: &'a mut [f32],
+    /// Index of the first strip this job covers.
+    pub first_strip: usize,
+    /// Pass 1 (natural field → tiled intermediate) or pass 2 (tiled intermediate → natural
+    /// field, transposed back).
+    pub first_pass: bool,
+}
+
+/// Runs one pass over the strips of `job`: reads columns of the source, writes their 1D inverse
+/// FFT transposed. `local` is the working buffer, at least N rows.
+#[inline(always)]
+pub(super) fn pass<S: Simd>(s: S, plan: &Plan, job: Job<'_>, local: &mut [CRow]) {
+    if job.first_pass {
+        pass_impl::<S, true>(s, plan, job, local);
+    } else {
+        pass_impl::<S, false>(s, plan, job, local);
+    }
+}
+
+/// Offset of the STRIP source values of row `r` of strip `strip`: natural row-major in pass 1,
+/// tiled in pass 2.
+#[inline(always)]
+fn src_at<const FIRST: bool>(n: usize, strip: usize, r: usize) -> usize {
+    if FIRST {
+        r * n + strip * STRIP
+    } else {
+        ((r / STRIP) * (n / STRIP) + strip) * TILE + (r % STRIP) * STRIP
+    }
+}
+
+/// Offset, within a strip's destination chunk, of outputs `k..` (LANES of them, not crossing
+/// a multiple of STRIP) of strip column `c`: tiled in pass 1, natural rows in pass 2.
+#[inline(always)]
+fn dst_at<const FIRST: bool>(n: usize, c: usize, k: usize) -> usize {
+    if FIRST {
+        (k / STRIP) * TILE + c * STRIP + k % STRIP
+    } else {
+        c * n + k
+    }
+}
+
+#[inline(always)]
+fn pass_impl<S: Simd, const FIRST: bool>(s: S, plan: &Plan, job: Job<'_>, local: &mut [CRow]) {
+    let n = plan.n;
+    let local = &mut local[..n];
+    let chunk = STRIP * n;
+    for (k, (dre, dim)) in job
+        .dst_re
+        .chunks_exact_mut(chunk)
+        .zip(job.dst_im.chunks_exact_mut(chunk))
+        .enumerate()
+    {
+        let strip = job.first_strip + k;
+        first_stage::<S, FIRST>(s, plan, job.src_re, job.src_im, strip, local);
+        later_stages(s, plan, local);
+        store_transposed::<S, FIRST>(s, plan, local, dre, dim);
+    }
+}
+
+/// The first radix-4 stage: source rows in, working buffer out.
+#[inline(always)]
+fn first_stage<S: Simd, const FIRST: bool>(
+    s: S,
+    plan: &Plan,
+    src_re: &[f32],
+    src_im: &[f32],
+    strip: usize,
+    local: &mut [CRow],
+) {
+    let n = plan.n;
+    let st = plan.stages[0];
+    debug_assert!(st.radix == 4 && st.len == n);
+    let tw = &plan.twiddles[st.tw..];
+    let q = n / 4;
+    let [l0, l1, l2, l3] = quarters(local);
+    for j in 0..q {
+        let w = tw4(s, tw, j);
+        let at = |p: usize| src_at::<FIRST>(n, strip, j + p * q);
+        let (a0, a1, a2, a3) = (at(0), at(1), at(2), at(3));
+        let re = [
+            src_row(src_re, a0),
+            src_row(src_re, a1),
+            src_row(src_re, a2),
+            src_row(src_re, a3),
+        ];
+        let im = [
+            src_row(src_im, a0),
+            src_row(src_im, a1),
+            src_row(src_im, a2),
+            src_row(src_im, a3),
+        ];
+        for h in 0..STRIP / S::LANES {
+            let o = h * S::LANES;
+            let x = [
+                C {
+                    re: s.load(&re[0][o..]),
+                    im: s.load(&im[0][o..]),
+                },
+                C {
+                    re: s.load(&re[1][o..]),
+                    im: s.load(&im[1][o..]),
+                },
+                C {
+                    re: s.load(&re[2][o..]),
+                    im: s.load(&im[2][o..]),
+                },
+                C {
+                    re: s.load(&re[3][o..]),
+                    im: s.load(&im[3][o..]),
+                },
+            ];
+            let [y0, y1, y2, y3] = bfly4(s, x);
+            store_row(s, &mut l0[j], o, y0);
+            store_row(s, &mut l1[j], o, cmul(s, y1, w[0]));
+            store_row(s, &mut l2[j], o, cmul(s, y2, w[1]));
+            store_row(s, &mut l3[j], o, cmul(s, y3, w[2]));
+        }
+    }
+}
+
+/// The [`STRIP`] source values at `at`.
+#[inline(always)]
+fn src_row(plane: &[f32], at: usize) -> &[f32; STRIP] {
+    plane[at..at + STRIP]
+        .try_into()
+        .expect("strip inside the field")
+}
+
+/// All stages after the first, in place. Stages on sub-transforms larger than [`L1_ROWS`] run
+/// breadth-first over the buffer; the rest depth-first per L1-sized block.
+#[inline(always)]
+fn later_stages<S: Simd>(s: S, plan: &Plan, local: &mut [CRow]) {
+    let stages = &plan.stages[1..];
+    let split = stages
+        .iter()
+        .position(|st| st.len <= L1_ROWS)
+        .unwrap_or(stages.len());
+    let (big, small) = stages.split_at(split);
+    for st in big {
+        stage(s, plan, *st, local);
+    }
+    if let Some(first_small) = small.first() {
+        for block in local.chunks_exact_mut(first_small.len) {
+            for st in small {
+                stage(s, plan, *st, block);
+            }
+        }
+    }
+}
+
+/// One in-place stage over every sub-transform of length `st.len` in `rows`.
+#[inline(always)]
+fn stage<S: Simd>(s: S, plan: &Plan, st: Stage, rows: &mut [CRow]) {
+    let tw = &plan.twiddles[st.tw..];
+    if st.radix == 4 {
+        for block in rows.chunks_exact_mut(st.len) {
+            let [l0, l1, l2, l3] = quarters(block);
+            for (j, (((r0, r1), r2), r3)) in l0
+                .iter_mut()
+                .zip(l1.iter_mut())
+                .zip(l2.iter_mut())
+                .zip(l3.iter_mut())
+                .enumerate()
+            {
+                if j == 0 {
+                    for h in 0..STRIP / S::LANES {
+                        let o = h * S::LANES;
+                        let x = [
+                            load_row(s, r0, o),
+                            load_row(s, r1, o),
+                            load_row(s, r2, o),
+                            load_row(s, r3, o),
+                        ];
+                        let [y0, y1, y2, y3] = bfly4(s, x);
+                        store_row(s, r0, o, y0);
+                        store_row(s, r1, o, y1);
+                        store_row(s, r2, o, y2);
+                        store_row(s, r3, o, y3);
+                    }
+                } else {
+                    let w = tw4(s, tw, j);
+                    for h in 0..STRIP / S::LANES {
+                        let o = h * S::LANES;
+                        let x = [
+                            load_row(s, r0, o),
+                            load_row(s, r1, o),
+                            load_row(s, r2, o),
+                            load_row(s, r3, o),
+                        ];
+                        let [y0, y1, y2, y3] = bfly4(s, x);
+                        store_row(s, r0, o, y0);
+                        store_row(s, r1, o, cmul(s, y1, w[0]));
+                        store_row(s, r2, o, cmul(s, y2, w[1]));
+                        store_row(s, r3, o, cmul(s, y3, w[2]));
+                    }
+                }
+            }
+        }
+    } else {
+        // Radix 2, only ever the last stage (len 2): no twiddles.
+        debug_assert_eq!(st.len, 2);
+        for pair in rows.chunks_exact_mut(2) {
+            let (a, b) = pair.split_at_mut(1);
+            for h in 0..STRIP / S::LANES {
+                let o = h * S::LANES;
+                let x = load_row(s, &a[0], o);
+                let y = load_row(s, &b[0], o);
+                let sum = C {
+                    re: s.add(x.re, y.re),
+                    im: s.add(x.im, y.im),
+                };
+                let dif = C {
+                    re: s.sub(x.re, y.re),
+                    im: s.sub(x.im, y.im),
+                };
+                store_row(s, &mut a[0], o, sum);
+                store_row(s, &mut b[0], o, dif);
+            }
+        }
+    }
+}
+
+/// Writes the strip transposed: output k of strip column c goes to `dst_at(c, k)`, read from
+/// working row `perm[k]`.
+#[inline(always)]
+fn store_transposed<S: Simd, const FIRST: bool>(
+    s: S,
+    plan: &Plan,
+    local: &[CRow],
+    dst_re: &mut [f32],
+    dst_im: &mut [f32],
+) {
+    let n = plan.n;
+    let w = S::LANES;
+    for (kb, p) in plan.perm.chunks_exact(w).enumerate() {
+        let k0 = kb * w;
+        for h in 0..STRIP / w {
+            let o = h * w;
+            // One plane at a time keeps the block in registers.
+            let mut re = s.zero_block();
+            for (t, &row) in p.iter().enumerate() {
+                re.as_mut()[t] = s.load(&local[row as usize].re[o..]);
+            }
+            let re = s.transpose(re);
+            for c in 0..w {
+                s.store(&mut dst_re[dst_at::<FIRST>(n, o + c, k0)..], re.as_ref()[c]);
+            }
+            let mut im = s.zero_block();
+            for (t, &row) in p.iter().enumerate() {
+                im.as_mut()[t] = s.load(&local[row as usize].im[o..]);
+            }
+            let im = s.transpose(im);
+            for c in 0..w {
+                s.store(&mut dst_im[dst_at::<FIRST>(n, o + c, k0)..], im.as_ref()[c]);
+            }
+        }
+    }
+}

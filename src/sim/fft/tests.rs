@@ -1,0 +1,259 @@
+//! Correctness of every available backend against a naive f64 DFT and rustfft (oracle only),
+//! batch determinism, and the real-output property.
+
+use super::*;
+use rustfft::num_complex::Complex;
+
+/// SplitMix64: a tiny deterministic PRNG so tests need no `rand`.
+struct Rng(u64);
+
+impl Rng {
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    /// Uniform in [-1, 1).
+    fn next_f32(&mut self) -> f32 {
+        ((self.next_u64() >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
+    }
+}
+
+fn sizes() -> impl Iterator<Item = GridSize> {
+    (4..=10).map(|l| GridSize::new(1 << l).unwrap())
+}
+
+fn random_field(size: GridSize, seed: u64) -> SplitField {
+    let mut rng = Rng(seed);
+    let mut f = SplitField::zeros(size);
+    let (re, im) = f.planes_mut();
+    for (r, i) in re.iter_mut().zip(im.iter_mut()) {
+        *r = rng.next_f32();
+        *i = rng.next_f32();
+    }
+    f
+}
+
+fn to_complex64(f: &SplitField) -> Vec<Complex<f64>> {
+    f.re.iter()
+        .zip(f.im.iter())
+        .map(|(&r, &i)| Complex::new(r as f64, i as f64))
+        .collect()
+}
+
+/// Relative RMS error of `got` against `want`.
+fn rel_rms(got: &SplitField, want: &[Complex<f64>]) -> f64 {
+    let (mut err, mut norm) = (0.0, 0.0);
+    for ((&r, &i), w) in got.re.iter().zip(got.im.iter()).zip(want) {
+        err += (Complex::new(r as f64, i as f64) - w).norm_sqr();
+        norm += w.norm_sqr();
+    }
+    (err / norm).sqrt()
+}
+
+/// Naive inverse 2D DFT in f64: an O(N²) DFT of every row, then of every column.
+fn naive_inverse_2d(x: &[Complex<f64>], n: usize) -> Vec<Complex<f64>> {
+    let w: Vec<Complex<f64>> = (0..n)
+        .map(|k| Complex::from_polar(1.0, 2.0 * std::f64::consts::PI * k as f64 / n as f64))
+        .collect();
+    let dft = |input: &[Complex<f64>], out: &mut [Complex<f64>]| {
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = input
+                .iter()
+                .enumerate()
+                .map(|(j, &v)| v * w[(j * k) % n])
+                .sum();
+        }
+    };
+    let mut rows = vec![Complex::default(); n * n];
+    for (src, dst) in x.chunks_exact(n).zip(rows.chunks_exact_mut(n)) {
+        dft(src, dst);
+    }
+    let mut out = vec![Complex::default(); n * n];
+    let mut col = vec![Complex::default(); n];
+    let mut res = vec![Complex::default(); n];
+    for c in 0..n {
+        for r in 0..n {
+            col[r] = rows[r * n + c];
+        }
+        dft(&col, &mut res);
+        for r in 0..n {
+            out[r * n + c] = res[r];
+        }
+    }
+    out
+}
+
+/// rustfft (f64) inverse 2D: rows, then columns.
+fn rustfft_inverse_2d(x: &[Complex<f64>], n: usize) -> Vec<Complex<f64>> {
+    let fft = rustfft::FftPlanner::<f64>::new().plan_fft_inverse(n);
+    let mut a = x.to_vec();
+    fft.process(&mut a);
+    let mut t = vec![Complex::default(); n * n];
+    for r in 0..n {
+        for c in 0..n {
+            t[c * n + r] = a[r * n + c];
+        }
+    }
+    fft.process(&mut t);
+    for r in 0..n {
+        for c in 0..n {
+            a[r * n + c] = t[c * n + r];
+        }
+    }
+    a
+}
+
+fn run_inverse(fft: &Fft2d, input: &SplitField) -> SplitField {
+    let mut f = input.clone();
+    let mut s = SplitField::zeros(input.size());
+    fft.inverse(&mut f, &mut s);
+    f
+}
+
+#[test]
+fn all_backends_match_naive_dft() {
+    for backend in Backend::available() {
+        for size in sizes().filter(|s| s.n() <= 128) {
+            let input = random_field(size, 1 + size.n() as u64);
+            let want = naive_inverse_2d(&to_complex64(&input), size.n());
+            let fft = Fft2d::with_backend(size, backend).unwrap();
+            let err = rel_rms(&run_inverse(&fft, &input), &want);
+            assert!(
+                err < 1e-5,
+                "{backend} N={size}: rel RMS {err:e} vs naive DFT"
+            );
+        }
+    }
+}
+
+#[test]
+fn all_backends_match_rustfft() {
+    for size in sizes() {
+        let input = random_field(size, 100 + size.n() as u64);
+        let want = rustfft_inverse_2d(&to_complex64(&input), size.n());
+        for backend in Backend::available() {
+            let fft = Fft2d::with_backend(size, backend).unwrap();
+            assert_eq!(fft.backend(), backend);
+            assert_eq!(fft.size(), size);
+            let err = rel_rms(&run_inverse(&fft, &input), &want);
+            assert!(err < 1e-5, "{backend} N={size}: rel RMS {err:e} vs rustfft");
+        }
+    }
+}
+
+#[test]
+fn single_impulses_give_plane_waves() {
+    // A lone coefficient at (kr, kc) must give exp(+2πi(kr·r + kc·c)/N): catches sign and
+    // transpose mistakes independently of any oracle.
+    let size = GridSize::new(32).unwrap();
+    let n = size.n();
+    for backend in Backend::available() {
+        let fft = Fft2d::with_backend(size, backend).unwrap();
+        for (kr, kc) in [(0, 0), (1, 0), (0, 1), (3, 5), (31, 17)] {
+            let mut input = SplitField::zeros(size);
+            input.re[kr * n + kc] = 1.0;
+            let out = run_inverse(&fft, &input);
+            for r in 0..n {
+                for c in 0..n {
+                    let ph = 2.0 * std::f64::consts::PI * ((kr * r + kc * c) % n) as f64 / n as f64;
+                    let (re, im) = (out.re[r * n + c] as f64, out.im[r * n + c] as f64);
+                    assert!(
+                        (re - ph.cos()).abs() < 1e-5 && (im - ph.sin()).abs() < 1e-5,
+                        "{backend} ({kr},{kc}) at ({r},{c}): {re} {im}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+fn bits(fields: &[SplitField]) -> Vec<u32> {
+    fields
+        .iter()
+        .flat_map(|f| f.re.iter().chain(f.im.iter()).map(|x| x.to_bits()))
+        .collect()
+}
+
+#[test]
+fn batch_is_bit_identical_to_single_for_any_thread_count() {
+    for backend in Backend::available() {
+        for size in [16, 128, 256].map(|n| GridSize::new(n).unwrap()) {
+            let fft = Fft2d::with_backend(size, backend).unwrap();
+            let inputs: Vec<SplitField> = (0..4).map(|i| random_field(size, 7 + i)).collect();
+            let single: Vec<SplitField> = inputs.iter().map(|f| run_inverse(&fft, f)).collect();
+            let want = bits(&single);
+            for threads in [1, 2, 4] {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                let mut fields = inputs.clone();
+                let mut scratch: Vec<SplitField> =
+                    (0..4).map(|_| SplitField::zeros(size)).collect();
+                pool.install(|| fft.inverse_batch(&mut fields, &mut scratch));
+                assert!(
+                    bits(&fields) == want,
+                    "{backend} N={size}: batch on {threads} threads differs from single"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn hermitian_input_gives_real_output() {
+    for backend in Backend::available() {
+        for size in sizes() {
+            let n = size.n();
+            let y = random_field(size, 55 + n as u64);
+            // X[k] = (Y[k] + conj(Y[-k])) / 2 is Hermitian.
+            let mut x = SplitField::zeros(size);
+            for r in 0..n {
+                for c in 0..n {
+                    let (i, j) = (r * n + c, ((n - r) % n) * n + (n - c) % n);
+                    x.re[i] = 0.5 * (y.re[i] + y.re[j]);
+                    x.im[i] = 0.5 * (y.im[i] - y.im[j]);
+                }
+            }
+            let fft = Fft2d::with_backend(size, backend).unwrap();
+            let out = run_inverse(&fft, &x);
+            let rms = |v: &[f32]| {
+                (v.iter().map(|&a| (a as f64).powi(2)).sum::<f64>() / v.len() as f64).sqrt()
+            };
+            let ratio = rms(&out.im) / rms(&out.re);
+            assert!(
+                ratio < 1e-6,
+                "{backend} N={n}: imaginary residue {ratio:e} of RMS"
+            );
+        }
+    }
+}
+
+#[test]
+fn detect_and_availability_agree() {
+    let avail = Backend::available();
+    assert_eq!(avail[0], Backend::Scalar);
+    #[cfg(target_arch = "x86_64")]
+    assert!(avail.contains(&Backend::Sse2));
+    #[cfg(target_arch = "aarch64")]
+    assert!(avail.contains(&Backend::Neon));
+    assert!(avail.contains(&Backend::detect()));
+    let size = GridSize::new(16).unwrap();
+    assert_eq!(Fft2d::new(size).backend(), Backend::detect());
+    for b in [
+        Backend::Scalar,
+        Backend::Sse2,
+        Backend::Avx2,
+        Backend::Avx512,
+        Backend::Neon,
+    ] {
+        assert_eq!(
+            Fft2d::with_backend(size, b).is_some(),
+            avail.contains(&b),
+            "{b}"
+        );
+    }
+}
