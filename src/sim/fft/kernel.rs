@@ -371,27 +371,92 @@ fn stage<S: Simd>(s: S, plan: &Plan, st: Stage, rows: &mut [CRow]) {
             }
         }
     } else {
-        // Radix 2, only ever the last stage (len 2): no twiddles.
-        debug_assert_eq!(st.len, 2);
-        for pair in rows.chunks_exact_mut(2) {
-            let (a, b) = pair.split_at_mut(1);
+        // Radix 8, only ever the last stage (len 8): no twiddles.
+        debug_assert!(st.radix == 8 && st.len == 8);
+        for block in rows.chunks_exact_mut(8) {
             for h in 0..STRIP / S::LANES {
                 let o = h * S::LANES;
-                let x = load_row(s, &a[0], o);
-                let y = load_row(s, &b[0], o);
-                let sum = C {
-                    re: s.add(x.re, y.re),
-                    im: s.add(x.im, y.im),
-                };
-                let dif = C {
-                    re: s.sub(x.re, y.re),
-                    im: s.sub(x.im, y.im),
-                };
-                store_row(s, &mut a[0], o, sum);
-                store_row(s, &mut b[0], o, dif);
+                let x: [C<S::V>; 8] = [
+                    load_row(s, &block[0], o),
+                    load_row(s, &block[1], o),
+                    load_row(s, &block[2], o),
+                    load_row(s, &block[3], o),
+                    load_row(s, &block[4], o),
+                    load_row(s, &block[5], o),
+                    load_row(s, &block[6], o),
+                    load_row(s, &block[7], o),
+                ];
+                let y = bfly8(s, x);
+                for (row, v) in block.iter_mut().zip(y) {
+                    store_row(s, row, o, v);
+                }
             }
         }
     }
+}
+
+/// Radix-8 inverse butterfly (no twiddles): `y_k = Σ_p x_p·ω^(pk)`, `ω = exp(+2πi/8)`, as a
+/// radix-2 split (`a_p = x_p + x_(p+4)`, `b_p = (x_p − x_(p+4))·ω^p`) followed by two radix-4
+/// butterflies giving the even and the odd outputs.
+#[inline(always)]
+fn bfly8<S: Simd>(s: S, x: [C<S::V>; 8]) -> [C<S::V>; 8] {
+    let add = |a: C<S::V>, b: C<S::V>| C {
+        re: s.add(a.re, b.re),
+        im: s.add(a.im, b.im),
+    };
+    let sub = |a: C<S::V>, b: C<S::V>| C {
+        re: s.sub(a.re, b.re),
+        im: s.sub(a.im, b.im),
+    };
+    let a = [
+        add(x[0], x[4]),
+        add(x[1], x[5]),
+        add(x[2], x[6]),
+        add(x[3], x[7]),
+    ];
+    let [d0, d1, d2, d3] = [
+        sub(x[0], x[4]),
+        sub(x[1], x[5]),
+        sub(x[2], x[6]),
+        sub(x[3], x[7]),
+    ];
+    let [e0, e1, e2, e3] = bfly4(s, a);
+    // Odd outputs: radix 4 over b = [d0, d1·ω, i·d2, d3·ω³] with ω = (1+i)/√2, ω³ = (−1+i)/√2.
+    let h = s.splat(std::f32::consts::FRAC_1_SQRT_2);
+    let u = s.sub(d1.re, d1.im); // √2·Re(d1·ω)
+    let v = s.add(d1.re, d1.im); // √2·Im(d1·ω)
+    let w = s.add(d3.re, d3.im); // −√2·Re(d3·ω³)
+    let z = s.sub(d3.re, d3.im); // √2·Im(d3·ω³)
+                                 // b0 ± b2 with b2 = i·d2.
+    let t0 = C {
+        re: s.sub(d0.re, d2.im),
+        im: s.add(d0.im, d2.re),
+    };
+    let t1 = C {
+        re: s.add(d0.re, d2.im),
+        im: s.sub(d0.im, d2.re),
+    };
+    // b1 ± b3.
+    let t2 = C {
+        re: s.mul(s.sub(u, w), h),
+        im: s.mul(s.add(v, z), h),
+    };
+    let t3 = C {
+        re: s.mul(s.add(u, w), h),
+        im: s.mul(s.sub(v, z), h),
+    };
+    let o1 = add(t0, t2);
+    let o5 = sub(t0, t2);
+    // t1 ± i·t3
+    let o3 = C {
+        re: s.sub(t1.re, t3.im),
+        im: s.add(t1.im, t3.re),
+    };
+    let o7 = C {
+        re: s.add(t1.re, t3.im),
+        im: s.sub(t1.im, t3.re),
+    };
+    [e0, o1, e1, o3, e2, o5, e3, o7]
 }
 
 /// Writes the strip transposed: output k of strip column c goes to `dst_at(c, k)`, read from

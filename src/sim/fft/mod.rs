@@ -6,7 +6,7 @@
 //!
 //! The 2D transform is two passes, field → scratch → field, of one kernel. A pass walks its
 //! source in strips of 16 adjacent columns; SIMD lanes hold adjacent columns, so the column FFT
-//! (radix-4 decimation in frequency, plus one radix-2 stage for odd log2 N) is purely vertical
+//! (radix-4 decimation in frequency, the last stage radix 8 for odd log2 N) is purely vertical
 //! SIMD with broadcast twiddles and no shuffles. The first stage reads the source directly; the
 //! rest run in a small contiguous working buffer that stays in L1. The strip is then written
 //! transposed (in-register LANES×LANES block transposes, reading rows in output order to undo

@@ -31,7 +31,7 @@ impl CRow {
 /// sub-transforms of `len` rows.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Stage {
-    /// 2 or 4.
+    /// 4, or 8 for the (twiddle-free) last stage when log2 N is odd.
     pub radix: usize,
     /// Length of the sub-transforms this stage splits (N for the first stage).
     pub len: usize,
@@ -51,7 +51,7 @@ pub(super) struct Plan {
     /// Stages in execution order, `len` decreasing from N.
     pub stages: Vec<Stage>,
     /// For radix-4 stages, per butterfly j in 0..len/4: `[w1.re, w1.im, w2.re, w2.im, w3.re, w3.im]`
-    /// with `wk = exp(+2πi·k·j/len)`; for radix-2 stages per j in 0..len/2: `[w.re, w.im]`.
+    /// with `wk = exp(+2πi·k·j/len)`. The radix-8 stage has none.
     pub twiddles: Vec<f32>,
     /// `perm[k]` = the working-buffer row that holds output index k after the last stage
     /// (decimation in frequency leaves the outputs digit-reversed).
@@ -59,14 +59,24 @@ pub(super) struct Plan {
 }
 
 impl Plan {
-    /// Plans the length-`n` inverse FFT (`n` a power of two in 16..=1024): radix-4 stages, plus
-    /// one final twiddle-free radix-2 stage when log2(n) is odd.
+    /// Plans the length-`n` inverse FFT (`n` a power of two in 16..=1024): radix-4 stages, the
+    /// last one radix 8 when log2(n) is odd.
     pub fn new(n: usize) -> Plan {
         debug_assert!(n.is_power_of_two() && (16..=1024).contains(&n));
         let mut stages = Vec::new();
         let mut twiddles = Vec::new();
         let mut len = n;
+        // Radix 4 down to the last stage; when log2(n) is odd the last stage is a twiddle-free
+        // radix 8 rather than a radix 4 plus a radix 2 (one fewer sweep over the strip).
         while len >= 4 {
+            if len == 8 && n > 8 {
+                stages.push(Stage {
+                    radix: 8,
+                    len,
+                    tw: twiddles.len(),
+                });
+                break;
+            }
             stages.push(Stage {
                 radix: 4,
                 len,
@@ -80,15 +90,6 @@ impl Plan {
                 }
             }
             len /= 4;
-        }
-        if len == 2 {
-            // Only the last stage can be radix 2; its single twiddle is 1.
-            stages.push(Stage {
-                radix: 2,
-                len: 2,
-                tw: twiddles.len(),
-            });
-            twiddles.extend_from_slice(&[1.0, 0.0]);
         }
         let mut perm = vec![0u16; n];
         assign_outputs(&stages, 0, n, 0, 1, &mut perm);
