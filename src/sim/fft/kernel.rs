@@ -326,7 +326,23 @@ fn later_stages<S: Simd>(s: S, plan: &Plan, local: &mut [CRow]) {
 #[inline(always)]
 fn stage<S: Simd>(s: S, plan: &Plan, st: Stage, rows: &mut [CRow]) {
     let tw = &plan.twiddles[st.tw..];
-    if st.radix == 4 {
+    if st.radix == 4 && st.len == 4 {
+        // The last stage for even log2 N: one twiddle-free butterfly per 4 rows.
+        for block in rows.chunks_exact_mut(4) {
+            for h in 0..STRIP / S::LANES {
+                let o = h * S::LANES;
+                let x = [
+                    load_row(s, &block[0], o),
+                    load_row(s, &block[1], o),
+                    load_row(s, &block[2], o),
+                    load_row(s, &block[3], o),
+                ];
+                for (row, v) in block.iter_mut().zip(bfly4(s, x)) {
+                    store_row(s, row, o, v);
+                }
+            }
+        }
+    } else if st.radix == 4 {
         for block in rows.chunks_exact_mut(st.len) {
             let [l0, l1, l2, l3] = quarters(block);
             for (j, (((r0, r1), r2), r3)) in l0

@@ -126,10 +126,6 @@ impl Imp {
     }
 }
 
-/// Strips handed to one rayon task in [`Fft2d::inverse_batch`]: enough to amortise the task and
-/// its working-buffer setup, few enough to balance two threads over four fields.
-const STRIPS_PER_TASK: usize = 4;
-
 /// A planned inverse 2D FFT of one grid size on one backend. Immutable after [`Fft2d::new`], so
 /// one instance can be shared by all threads.
 pub struct Fft2d {
@@ -201,19 +197,32 @@ impl Fft2d {
         for (f, s) in fields.iter().zip(scratch.iter()) {
             self.check(f, s);
         }
+        // Split each field's passes only as far as needed to give every thread about two
+        // tasks: each task clears its own working buffer, so fewer, larger tasks are cheaper.
+        // Every strip is computed identically whatever the split, so results don't depend on it.
+        let strips = self.size.n() / STRIP;
+        let threads = rayon::current_num_threads();
+        let tasks_per_pass = (2 * threads).div_ceil(fields.len().max(1)).min(strips);
+        let strips_per_task = strips.div_ceil(tasks_per_pass);
         fields
             .par_iter_mut()
             .zip(scratch.par_iter_mut())
             .for_each(|(f, s)| {
-                self.pass_par(f, s, true);
-                self.pass_par(s, f, false);
+                self.pass_par(f, s, true, strips_per_task);
+                self.pass_par(s, f, false, strips_per_task);
             });
     }
 
-    /// One pass `src` → `dst`, split into rayon tasks of [`STRIPS_PER_TASK`] strips.
-    fn pass_par(&self, src: &SplitField, dst: &mut SplitField, first_pass: bool) {
+    /// One pass `src` → `dst`, split into rayon tasks of `strips_per_task` strips.
+    fn pass_par(
+        &self,
+        src: &SplitField,
+        dst: &mut SplitField,
+        first_pass: bool,
+        strips_per_task: usize,
+    ) {
         let n = self.size.n();
-        let chunk = STRIP * n * STRIPS_PER_TASK;
+        let chunk = STRIP * n * strips_per_task;
         let (dre, dim) = dst.planes_mut();
         dre.par_chunks_mut(chunk)
             .zip(dim.par_chunks_mut(chunk))
@@ -221,7 +230,7 @@ impl Fft2d {
             .for_each(|(i, (dre, dim))| {
                 with_local(n, |local| {
                     self.run(
-                        pass_job(src, dre, dim, i * STRIPS_PER_TASK, first_pass),
+                        pass_job(src, dre, dim, i * strips_per_task, first_pass),
                         local,
                     )
                 })

@@ -182,22 +182,26 @@ fn batch_is_bit_identical_to_single_for_any_thread_count() {
     for backend in Backend::available() {
         for size in [16, 128, 256].map(|n| GridSize::new(n).unwrap()) {
             let fft = Fft2d::with_backend(size, backend).unwrap();
-            let inputs: Vec<SplitField> = (0..4).map(|i| random_field(size, 7 + i)).collect();
-            let single: Vec<SplitField> = inputs.iter().map(|f| run_inverse(&fft, f)).collect();
-            let want = bits(&single);
-            for threads in [1, 2, 4] {
-                let pool = rayon::ThreadPoolBuilder::new()
-                    .num_threads(threads)
-                    .build()
-                    .unwrap();
-                let mut fields = inputs.clone();
-                let mut scratch: Vec<SplitField> =
-                    (0..4).map(|_| SplitField::zeros(size)).collect();
-                pool.install(|| fft.inverse_batch(&mut fields, &mut scratch));
-                assert!(
+            // Four fields (the ocean's batch) and one (forces splitting a field across tasks).
+            for count in [4, 1] {
+                let inputs: Vec<SplitField> =
+                    (0..count).map(|i| random_field(size, 7 + i)).collect();
+                let single: Vec<SplitField> = inputs.iter().map(|f| run_inverse(&fft, f)).collect();
+                let want = bits(&single);
+                for threads in [1, 2, 4] {
+                    let pool = rayon::ThreadPoolBuilder::new()
+                        .num_threads(threads)
+                        .build()
+                        .unwrap();
+                    let mut fields = inputs.clone();
+                    let mut scratch: Vec<SplitField> =
+                        (0..count).map(|_| SplitField::zeros(size)).collect();
+                    pool.install(|| fft.inverse_batch(&mut fields, &mut scratch));
+                    assert!(
                     bits(&fields) == want,
-                    "{backend} N={size}: batch on {threads} threads differs from single"
+                    "{backend} N={size}: batch of {count} on {threads} threads differs from single"
                 );
+                }
             }
         }
     }
