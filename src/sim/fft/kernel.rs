@@ -1,14 +1,16 @@
 //! The FFT pass, written once over a small SIMD trait and instantiated per backend.
 //!
-//! A pass takes a source field and, strip by strip ([`STRIP`] adjacent columns), runs the 1D
-//! inverse FFT down the columns and writes the result transposed: strip columns `c0..c0+16`
-//! become destination rows `c0..c0+16`. Two passes (field → scratch → field) give the 2D
-//! transform in natural order with no separate transpose.
+//! A pass takes a source and, strip by strip ([`STRIP`] adjacent columns), runs the 1D inverse
+//! FFT down the columns and writes the result transposed: strip columns `c0..c0+16` become
+//! destination rows `c0..c0+16`. Two passes (field → scratch → field) give the 2D transform in
+//! natural order with no separate transpose. Pass 1 reads the natural field and writes the
+//! transposed strips as 16×16 tiles; pass 2 reads those tiles (1 KiB runs rather than 64-byte
+//! lines a row apart) and writes natural rows.
 //!
-//! Per strip: the first radix-4 stage reads the strided source rows and writes a contiguous
-//! working buffer of [`CRow`]s (real and imaginary vectors of the 16 columns); the other stages
-//! run in place in that buffer (sub-transforms of at most [`L1_ROWS`] rows depth-first, so they stay
-//! in L1); the final store gathers the rows in output order (undoing the digit reversal),
+//! Per strip: the first radix-4 stage reads the source rows and writes a contiguous working
+//! buffer of [`CRow`]s (real and imaginary vectors of the 16 columns); the other stages run in
+//! place in that buffer (sub-transforms of at most [`L1_ROWS`] rows depth-first, so they stay in
+//! L1); the final store gathers the rows in output order (undoing the digit reversal),
 //! transposes LANES×LANES blocks in registers and writes whole destination row segments.
 //! Lanes always hold adjacent columns, so the butterflies are purely vertical SIMD.
 

@@ -169,6 +169,8 @@ impl Fft2d {
     /// `scratch` (same size) receives the intermediate result (in an internal tiled layout); its
     /// contents on entry are ignored and on exit are unspecified.
     ///
+    /// Allocates nothing; uses a stack working buffer of N × 128 bytes (at most 128 KiB).
+    ///
     /// # Panics
     /// If `field` or `scratch` is not of this plan's size.
     pub fn inverse(&self, field: &mut SplitField, scratch: &mut SplitField) {
@@ -184,7 +186,8 @@ impl Fft2d {
     /// [`Fft2d::inverse`] on every field, `fields[i]` using `scratch[i]`, in parallel over
     /// (field, group of column strips) on the current rayon pool. Each strip is computed by the
     /// same code whatever the thread count, so results are bit-identical to calling `inverse`
-    /// on each field.
+    /// on each field. Allocates nothing beyond rayon's own task bookkeeping; each task uses a
+    /// stack working buffer like `inverse`.
     ///
     /// # Panics
     /// If the slices differ in length or any field is not of this plan's size.
@@ -281,14 +284,17 @@ fn pass_job<'a>(
     }
 }
 
-/// Calls `f` with a zeroed stack working buffer of `n` rows, sized in three tiers so small grids
-/// don't pay for clearing the 128 KiB a 1024 grid needs.
+/// Calls `f` with a zeroed stack working buffer of `n` rows (128 bytes each), sized in tiers so
+/// small grids don't pay for clearing the 128 KiB a 1024 grid needs.
 fn with_local<R>(n: usize, f: impl FnOnce(&mut [CRow]) -> R) -> R {
     if n <= 64 {
         let mut buf = [CRow::ZERO; 64];
         f(&mut buf[..n])
     } else if n <= 256 {
         let mut buf = [CRow::ZERO; 256];
+        f(&mut buf[..n])
+    } else if n <= 512 {
+        let mut buf = [CRow::ZERO; 512];
         f(&mut buf[..n])
     } else {
         let mut buf = [CRow::ZERO; 1024];

@@ -237,6 +237,12 @@ fn hermitian_input_gives_real_output() {
 }
 
 #[test]
+fn plans_are_shareable() {
+    fn assert_send_sync<T: Send + Sync>() {}
+    assert_send_sync::<Fft2d>();
+}
+
+#[test]
 fn detect_and_availability_agree() {
     let avail = Backend::available();
     assert_eq!(avail[0], Backend::Scalar);
