@@ -277,6 +277,39 @@ fn results_are_identical_for_any_thread_count() {
     }
 }
 
+#[test]
+fn every_simd_tier_computes_the_same_bits() {
+    use vr_ocean::sim::simd::{active_tier, cap_tier, Tier};
+    let cfg = OceanConfig::default_cascades(64).unwrap();
+    let run = |tier: Tier| {
+        cap_tier(tier);
+        let mut core = SimCore::new(cfg.clone()).unwrap();
+        let out = step(&mut core, &cfg, 7.25);
+        let used = active_tier();
+        cap_tier(Tier::Avx512);
+        let bits: Vec<u32> = out
+            .cascades
+            .iter()
+            .flat_map(|c| c.displacement.iter().flatten().map(|v| v.to_bits()))
+            .collect();
+        let rgba: Vec<u32> = out
+            .cascades
+            .iter()
+            .flat_map(|c| c.normal_foam.clone())
+            .collect();
+        (used, bits, rgba)
+    };
+    let (base_tier, base, base_rgba) = run(Tier::Baseline);
+    assert_eq!(base_tier, Tier::Baseline);
+    for tier in [Tier::Avx2, Tier::Avx512] {
+        let (used, bits, rgba) = run(tier);
+        assert!(
+            bits == base && rgba == base_rgba,
+            "{used:?} differs from the baseline"
+        );
+    }
+}
+
 fn assert_finite(s: &Surfaces, what: &str) {
     for c in &s.cascades {
         assert!(

@@ -196,43 +196,67 @@ pub fn finalize(
         len,
         smooth: pack::smoothness(len),
     };
-    let (level0_floats, _) = out.normal_floats.split_at_mut(n * n);
-    let (level0_rgba, _) = out.normal_foam.split_at_mut(n * n);
+    // Rows go in pairs so mip level 1 is averaged while both source rows are still in cache.
+    let side1 = n / 2;
+    let (level0_floats, rest) = out.normal_floats.split_at_mut(n * n);
+    let level1_floats = &mut rest[..side1 * side1];
+    let (level0_rgba, rest) = out.normal_foam.split_at_mut(n * n);
+    let level1_rgba = &mut rest[..side1 * side1];
     out.displacement
-        .par_chunks_mut(n)
-        .zip(out.displacement_f16.par_chunks_mut(n))
-        .zip(level0_floats.par_chunks_mut(n))
-        .zip(level0_rgba.par_chunks_mut(n))
-        .zip(foam.par_chunks_mut(n))
-        .zip(out.row_max.par_iter_mut())
+        .par_chunks_mut(2 * n)
+        .zip(out.displacement_f16.par_chunks_mut(2 * n))
+        .zip(level0_floats.par_chunks_mut(2 * n))
+        .zip(level0_rgba.par_chunks_mut(2 * n))
+        .zip(foam.par_chunks_mut(2 * n))
+        .zip(out.row_max.par_chunks_mut(2))
+        .zip(level1_floats.par_chunks_mut(side1))
+        .zip(level1_rgba.par_chunks_mut(side1))
         .enumerate()
-        .for_each(|(row, (((((disp, disp16), floats), rgba), foam), rmax))| {
-            let b = row * n;
-            let r = |f, im| plane_row(f, im, b, n);
-            let row = SurfaceRow {
-                fields: [
-                    r(&fields[0], false),
-                    r(&fields[0], true),
-                    r(&fields[1], false),
-                    r(&fields[1], true),
-                    r(&fields[2], false),
-                    r(&fields[2], true),
-                    r(&fields[3], false),
-                    r(&fields[3], true),
-                ],
-                disp: &mut *disp,
-                floats,
-                rgba,
-                foam,
-                row_sign: if row & 1 == 0 { 1.0 } else { -1.0 },
-                k,
-            };
-            surface_row(row, rmax);
-            // The row is still in L1: convert it to RGBA16F here rather than in another pass.
-            half::slice::HalfFloatSliceExt::convert_from_f32_slice(
-                bytemuck::cast_slice_mut::<[f16; 4], f16>(disp16),
-                bytemuck::cast_slice::<[f32; 4], f32>(disp),
-            );
+        .for_each(|(pair, data)| {
+            let (((((((disp, disp16), floats), rgba), foam), rmax), floats1), rgba1) = data;
+            let rows = disp
+                .chunks_mut(n)
+                .zip(disp16.chunks_mut(n))
+                .zip(floats.chunks_mut(n))
+                .zip(rgba.chunks_mut(n))
+                .zip(foam.chunks_mut(n))
+                .zip(rmax.iter_mut());
+            for (i, (((((disp, disp16), floats), rgba), foam), rmax)) in rows.enumerate() {
+                let row = 2 * pair + i;
+                let b = row * n;
+                let r = |f, im| plane_row(f, im, b, n);
+                let surface = SurfaceRow {
+                    fields: [
+                        r(&fields[0], false),
+                        r(&fields[0], true),
+                        r(&fields[1], false),
+                        r(&fields[1], true),
+                        r(&fields[2], false),
+                        r(&fields[2], true),
+                        r(&fields[3], false),
+                        r(&fields[3], true),
+                    ],
+                    disp: &mut *disp,
+                    floats,
+                    rgba,
+                    foam,
+                    row_sign: if row & 1 == 0 { 1.0 } else { -1.0 },
+                    k,
+                };
+                surface_row(surface, rmax);
+                // The row is still in L1: convert it to RGBA16F here, not in another pass.
+                half::slice::HalfFloatSliceExt::convert_from_f32_slice(
+                    bytemuck::cast_slice_mut::<[f16; 4], f16>(disp16),
+                    bytemuck::cast_slice::<[f32; 4], f32>(disp),
+                );
+            }
+            let (src0, src1) = floats.split_at(n);
+            mip_row(MipRow {
+                src0,
+                src1,
+                dst: floats1,
+                rgba: rgba1,
+            });
         });
     out.max_displacement = out.row_max.iter().fold([0.0f32; 3], |a, r| {
         [a[0].max(r[0]), a[1].max(r[1]), a[2].max(r[2])]
@@ -269,11 +293,12 @@ dispatch!(
     fn mip_row(row: MipRow<'_>) => mip_row_kernel
 );
 
-/// Mip levels 1..=log₂N by unnormalized 2×2 box averaging (eq. 52); the averaged normal's
-/// length becomes smoothness (eq. 53) and the RGBA8 texel stores it re-normalized.
+/// Mip levels 2..=log₂N (level 1 is made with level 0) by unnormalized 2×2 box averaging
+/// (eq. 52); the averaged normal's length becomes smoothness (eq. 53) and the RGBA8 texel
+/// stores it re-normalized.
 fn build_mips(out: &mut CascadeSurface) {
     let grid = out.grid;
-    for level in 1..grid.mip_levels() {
+    for level in 2..grid.mip_levels() {
         let src_off = pack::mip_offset(grid, level - 1);
         let dst_off = pack::mip_offset(grid, level);
         let side = grid.n() >> level;
