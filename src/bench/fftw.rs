@@ -1,111 +1,193 @@
-//! Minimal FFI to the system FFTW (single precision), a benchmark baseline only. Enabled by the
-//! `fftw` feature; links `libfftw3f` (Debian `libfftw3-dev`).
+//! Minimal FFI to the system FFTW (single precision), a benchmark baseline only: behind the
+//! `fftw` feature, linking `libfftw3f` (Debian `libfftw3-dev`). Used by `vr-ocean bench` and
+//! `benches/fft.rs`. Plans are made with the caller's flags (FFTW_PATIENT for the baselines)
+//! outside any timing.
+use std::ffi::{c_int, c_uint, c_void};
 
-use std::os::raw::{c_int, c_uint, c_void};
+/// `FFTW_BACKWARD`: the sign of the exponent, +1, i.e. the unnormalized inverse transform.
+pub const FFTW_BACKWARD: c_int = 1;
+/// `FFTW_PATIENT` planner flag.
+pub const FFTW_PATIENT: c_uint = 1 << 5;
 
-#[repr(C)]
-struct PlanOpaque {
-    _private: [u8; 0],
-}
+/// `fftwf_complex`: interleaved re, im.
+pub type Complex = [f32; 2];
 
 #[link(name = "fftw3f")]
 extern "C" {
+    fn fftwf_plan_dft_2d(
+        n0: c_int,
+        n1: c_int,
+        input: *mut Complex,
+        output: *mut Complex,
+        sign: c_int,
+        flags: c_uint,
+    ) -> *mut c_void;
+    #[allow(clippy::too_many_arguments)]
     fn fftwf_plan_many_dft(
         rank: c_int,
         n: *const c_int,
         howmany: c_int,
-        input: *mut [f32; 2],
+        input: *mut Complex,
         inembed: *const c_int,
         istride: c_int,
         idist: c_int,
-        output: *mut [f32; 2],
+        output: *mut Complex,
         onembed: *const c_int,
         ostride: c_int,
         odist: c_int,
         sign: c_int,
         flags: c_uint,
-    ) -> *mut PlanOpaque;
-    fn fftwf_execute(plan: *const PlanOpaque);
-    fn fftwf_destroy_plan(plan: *mut PlanOpaque);
+    ) -> *mut c_void;
+    fn fftwf_execute(plan: *mut c_void);
+    fn fftwf_destroy_plan(plan: *mut c_void);
     fn fftwf_malloc(n: usize) -> *mut c_void;
     fn fftwf_free(p: *mut c_void);
 }
 
-const FFTW_BACKWARD: c_int = 1;
-const FFTW_PATIENT: c_uint = 1 << 5;
-
-/// `howmany` in-place complex inverse 2D transforms of side `n`, planned with FFTW_PATIENT,
-/// on FFTW-allocated (SIMD-aligned) interleaved data.
-pub struct FftwBatch {
-    plan: *mut PlanOpaque,
-    data: *mut [f32; 2],
+/// A zeroed, FFTW-aligned array of complex values.
+pub struct Buffer {
+    ptr: *mut Complex,
     len: usize,
 }
 
-impl FftwBatch {
-    /// Plans the batch (FFTW_PATIENT measures many algorithms: seconds for large sizes).
-    /// Returns None if FFTW cannot plan or allocate.
-    pub fn new(n: usize, howmany: usize) -> Option<Self> {
-        let len = n * n * howmany;
-        // SAFETY: plain allocation; checked for null below.
-        let data = unsafe { fftwf_malloc(len * 8) } as *mut [f32; 2];
-        if data.is_null() {
+impl Buffer {
+    /// `len` zeros, allocated with `fftwf_malloc` (SIMD-aligned).
+    pub fn zeros(len: usize) -> Option<Buffer> {
+        // SAFETY: plain allocation call; checked for null below.
+        let ptr = unsafe { fftwf_malloc(len * std::mem::size_of::<Complex>()) } as *mut Complex;
+        if ptr.is_null() {
             return None;
         }
-        let dims = [n as c_int, n as c_int];
-        // SAFETY: `data` holds `howmany` contiguous n×n complex arrays; null embeds mean dense.
-        let plan = unsafe {
-            fftwf_plan_many_dft(
-                2,
-                dims.as_ptr(),
-                howmany as c_int,
-                data,
-                std::ptr::null(),
-                1,
-                (n * n) as c_int,
-                data,
-                std::ptr::null(),
-                1,
-                (n * n) as c_int,
-                FFTW_BACKWARD,
-                FFTW_PATIENT,
-            )
-        };
-        if plan.is_null() {
-            // SAFETY: allocated above by fftwf_malloc.
-            unsafe { fftwf_free(data as *mut c_void) };
-            return None;
-        }
-        let mut batch = Self { plan, data, len };
-        // Planning scribbles over the array: refill with something finite.
-        for (i, v) in batch.data_mut().iter_mut().enumerate() {
-            *v = [
-                ((i * 7919) % 1000) as f32 * 1e-3,
-                ((i * 104_729) % 1000) as f32 * 1e-3,
-            ];
-        }
-        Some(batch)
+        // SAFETY: `ptr` points to `len` freshly allocated, suitably aligned Complex slots.
+        unsafe { std::ptr::write_bytes(ptr, 0, len) };
+        Some(Buffer { ptr, len })
     }
 
-    /// The interleaved complex data, transform after transform.
-    pub fn data_mut(&mut self) -> &mut [[f32; 2]] {
-        // SAFETY: `data` points to `len` elements owned by self.
-        unsafe { std::slice::from_raw_parts_mut(self.data, self.len) }
+    /// The values.
+    pub fn as_slice(&self) -> &[Complex] {
+        // SAFETY: `ptr` holds `len` initialised values owned by `self`.
+        unsafe { std::slice::from_raw_parts(self.ptr, self.len) }
     }
 
-    /// Runs all transforms once.
-    pub fn execute(&mut self) {
-        // SAFETY: the plan was made for `data`, which lives as long as self.
-        unsafe { fftwf_execute(self.plan) }
+    /// The values, mutably.
+    pub fn as_mut_slice(&mut self) -> &mut [Complex] {
+        // SAFETY: as above, and `&mut self` gives exclusive access.
+        unsafe { std::slice::from_raw_parts_mut(self.ptr, self.len) }
     }
 }
 
-impl Drop for FftwBatch {
+impl Drop for Buffer {
     fn drop(&mut self) {
-        // SAFETY: both were created in `new` and are released exactly once.
-        unsafe {
-            fftwf_destroy_plan(self.plan);
-            fftwf_free(self.data as *mut c_void);
+        // SAFETY: allocated by `fftwf_malloc` and freed only here.
+        unsafe { fftwf_free(self.ptr as *mut c_void) }
+    }
+}
+
+/// How a [`Plan`] lays out its transforms.
+#[derive(Clone, Copy, Debug)]
+pub enum Layout {
+    /// One `fftwf_plan_many_dft` over `howmany` contiguous N×N arrays.
+    Many,
+    /// One `fftwf_plan_dft_2d`, executed on each of the `howmany` arrays in turn (new-array
+    /// execution is not bound here, so each array gets its own plan with the same wisdom).
+    Single,
+}
+
+/// A planned batch of `howmany` inverse N×N complex transforms that owns its arrays (so they
+/// outlive the plan). In place when `out` is `None`.
+pub struct Plan {
+    plans: Vec<*mut c_void>,
+    input: Buffer,
+    output: Option<Buffer>,
+}
+
+impl Plan {
+    /// Plans with `flags` (planning may overwrite the arrays; fill them afterwards).
+    pub fn new(
+        n: usize,
+        howmany: usize,
+        layout: Layout,
+        in_place: bool,
+        flags: c_uint,
+    ) -> Option<Plan> {
+        let len = n * n * howmany;
+        let mut input = Buffer::zeros(len)?;
+        let mut output = match in_place {
+            true => None,
+            false => Some(Buffer::zeros(len)?),
+        };
+        let ip = input.as_mut_slice().as_mut_ptr();
+        let op = output
+            .as_mut()
+            .map_or(ip, |b| b.as_mut_slice().as_mut_ptr());
+        let ni = n as c_int;
+        let plans = match layout {
+            Layout::Many => {
+                let dims = [ni, ni];
+                let dist = ni * ni;
+                // SAFETY: `ip`/`op` hold `howmany` contiguous n×n arrays owned by the returned
+                // Plan; null embeds mean "same as dims".
+                vec![unsafe {
+                    fftwf_plan_many_dft(
+                        2,
+                        dims.as_ptr(),
+                        howmany as c_int,
+                        ip,
+                        std::ptr::null(),
+                        1,
+                        dist,
+                        op,
+                        std::ptr::null(),
+                        1,
+                        dist,
+                        FFTW_BACKWARD,
+                        flags,
+                    )
+                }]
+            }
+            Layout::Single => (0..howmany)
+                .map(|i| {
+                    let off = i * n * n;
+                    // SAFETY: array i of `ip`/`op`, n×n values, owned by the returned Plan.
+                    unsafe {
+                        fftwf_plan_dft_2d(ni, ni, ip.add(off), op.add(off), FFTW_BACKWARD, flags)
+                    }
+                })
+                .collect(),
+        };
+        let plan = Plan {
+            plans,
+            input,
+            output,
+        };
+        // Drop (which skips null plans) releases everything if any plan failed.
+        plan.plans.iter().all(|p| !p.is_null()).then_some(plan)
+    }
+
+    /// The input arrays, to fill before [`Plan::execute`].
+    pub fn input_mut(&mut self) -> &mut [Complex] {
+        self.input.as_mut_slice()
+    }
+
+    /// The result arrays (the input arrays when in place).
+    pub fn output(&self) -> &[Complex] {
+        self.output.as_ref().unwrap_or(&self.input).as_slice()
+    }
+
+    /// Runs the transforms.
+    pub fn execute(&mut self) {
+        for &p in &self.plans {
+            // SAFETY: `p` is a live plan whose arrays `self` owns.
+            unsafe { fftwf_execute(p) }
+        }
+    }
+}
+
+impl Drop for Plan {
+    fn drop(&mut self) {
+        for &p in self.plans.iter().filter(|p| !p.is_null()) {
+            // SAFETY: created by the planner above, destroyed once.
+            unsafe { fftwf_destroy_plan(p) }
         }
     }
 }

@@ -19,19 +19,24 @@ impl RustFft2d {
     pub fn new(n: usize, count: usize) -> Self {
         let fft = FftPlanner::new().plan_fft_inverse(n);
         let scratch = vec![Complex32::default(); fft.get_inplace_scratch_len()];
-        let data = (0..count)
-            .map(|k| {
-                (0..n * n)
-                    .map(|i| Complex32::new(((i + k) % 17) as f32 * 0.1, (i % 5) as f32 * 0.2))
-                    .collect()
-            })
-            .collect();
-        Self {
+        let data = vec![vec![Complex32::default(); n * n]; count];
+        let mut s = Self {
             fft,
             n,
             data,
             transposed: vec![Complex32::default(); n * n],
             scratch,
+        };
+        s.refill();
+        s
+    }
+
+    /// Restores the inputs (in-place transforms would otherwise grow without bound).
+    pub fn refill(&mut self) {
+        for (k, field) in self.data.iter_mut().enumerate() {
+            for (i, v) in field.iter_mut().enumerate() {
+                *v = Complex32::new(((i + k) % 17) as f32 * 0.1, (i % 5) as f32 * 0.2);
+            }
         }
     }
 
