@@ -5,7 +5,7 @@ use std::fs;
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-use crate::sim::surface::CascadeSurface;
+use crate::sim::surface::{self, CascadeSurface};
 
 /// A file or directory that could not be written.
 #[derive(Debug)]
@@ -45,20 +45,16 @@ pub fn prepare_dir(dir: &Path) -> Result<(), ExportError> {
 }
 
 /// The fields of one cascade as planes: name, components per texel, values.
-fn planes(s: &CascadeSurface) -> Vec<(&'static str, usize, Vec<f32>)> {
-    let n = s.grid.texels();
+fn planes(s: &CascadeSurface, base: &[[f32; 4]]) -> Vec<(&'static str, usize, Vec<f32>)> {
     let comp = |k: usize| s.displacement.iter().map(|d| d[k]).collect::<Vec<f32>>();
-    let mut normals = Vec::with_capacity(3 * n);
-    for i in 0..n {
-        normals.extend_from_slice(&s.unit_normal(i));
-    }
+    let normals: Vec<f32> = base.iter().flat_map(|&b| surface::unit(b)).collect();
     vec![
         ("height", 1, comp(1)),
         ("dx", 1, comp(0)),
         ("dz", 1, comp(2)),
         ("jacobian", 1, comp(3)),
         ("normals", 3, normals),
-        ("foam", 1, (0..n).map(|i| s.foam(i)).collect()),
+        ("foam", 1, base.iter().map(|b| b[3]).collect()),
     ]
 }
 
@@ -82,7 +78,8 @@ fn write_atomically(
 
 /// Writes one cascade's fields as `{stem}_{field}.npy` (shape [N, N] or [N, N, 3], row index =
 /// z texel, column = x texel) and one multi-channel `{stem}.exr` (channels height, dx, dz,
-/// jacobian, foam, normal.x/y/z). Returns the files written.
+/// jacobian, foam, normal.x/y/z). The surface must keep its level-0 normals
+/// ([`crate::sim::Surfaces::with_base_normals`]). Returns the files written.
 pub fn write_cascade(
     s: &CascadeSurface,
     dir: &Path,
@@ -90,7 +87,11 @@ pub fn write_cascade(
 ) -> Result<Vec<PathBuf>, ExportError> {
     let n = s.grid.n() as u64;
     let mut written = Vec::new();
-    let planes = planes(s);
+    let base = s.base_normals().ok_or_else(|| ExportError {
+        path: dir.join(stem),
+        source: io::Error::other("the surface was simulated without level-0 normals"),
+    })?;
+    let planes = planes(s, base);
     for (name, comps, data) in &planes {
         let path = dir.join(format!("{stem}_{name}.npy"));
         let shape: Vec<u64> = if *comps == 1 {

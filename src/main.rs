@@ -10,7 +10,8 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use vr_ocean::bench::{self, BenchOptions};
 use vr_ocean::export;
 use vr_ocean::sim::{
-    FoamParams, GridSize, OceanConfig, ParamError, Simulation, SpectrumKind, WaveParams,
+    FoamParams, GridSize, OceanConfig, ParamError, SimCore, SimError, Simulation, SpectrumKind,
+    Surfaces, WaveParams,
 };
 
 #[derive(Parser)]
@@ -252,8 +253,10 @@ fn simulate(a: SimulateArgs) -> CmdResult {
                 .map(|d| (d[1] as f64).powi(2))
                 .sum::<f64>()
                 / n;
-            let foam = (0..c0.displacement.len())
-                .map(|i| c0.foam(i) as f64)
+            // Foam coverage from the RGBA8 level 0 (B channel).
+            let foam = c0.normal_foam[..c0.displacement.len()]
+                .iter()
+                .map(|p| ((p >> 16) & 0xff) as f64 / 255.0)
                 .sum::<f64>()
                 / n;
             let m = s.max_displacement();
@@ -282,10 +285,15 @@ fn export_cmd(a: ExportArgs) -> CmdResult {
         }
     }
     export::prepare_dir(&a.out)?;
-    let mut sim = Simulation::new(cfg.clone(), default_threads())?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(default_threads())
+        .build()
+        .map_err(|e| SimError::Threads(e.to_string()))?;
+    let mut core = pool.install(|| SimCore::new(cfg.clone()))?;
+    let mut s = Surfaces::with_base_normals(&cfg);
     let mut written = 0;
     for &t in &a.time {
-        let s = sim.step_blocking(t);
+        pool.install(|| core.step(t, &mut s));
         for (i, c) in s.cascades.iter().enumerate() {
             let stem = if s.cascades.len() == 1 {
                 format!("t{t:.3}")

@@ -3,7 +3,7 @@
 use vr_ocean::sim::evolve::{self, LoopPhase};
 use vr_ocean::sim::fft::Fft2d;
 use vr_ocean::sim::spectrum::{self, cascade_bands, CascadeSpec, PackedSpectrum};
-use vr_ocean::sim::surface::{self, CascadeSurface, SurfaceParams};
+use vr_ocean::sim::surface::{self, BaseNormals, CascadeSurface, SurfaceParams};
 use vr_ocean::sim::{
     dispersion, AlignedBuf, FoamParams, GridSize, OceanConfig, SimCore, SpectrumKind, SplitField,
     Surfaces,
@@ -19,7 +19,7 @@ fn spec_of(cfg: &OceanConfig, i: usize) -> CascadeSpec {
 }
 
 fn step(core: &mut SimCore, cfg: &OceanConfig, t: f64) -> Surfaces {
-    let mut out = Surfaces::new(cfg);
+    let mut out = Surfaces::with_base_normals(cfg);
     core.step(t, &mut out);
     out
 }
@@ -105,7 +105,7 @@ fn heights(spec: &PackedSpectrum, patch: f32, t: f64, period: f32) -> Vec<f32> {
     let mut scratch: [SplitField; 4] = std::array::from_fn(|_| SplitField::zeros(grid));
     evolve::evolve(spec, patch, LoopPhase::new(t, period), &mut fields);
     fft.inverse_batch(&mut fields, &mut scratch);
-    let mut out = CascadeSurface::new(grid, patch);
+    let mut out = CascadeSurface::new(grid, patch, BaseNormals::Keep);
     let mut foam = AlignedBuf::zeros(grid.texels());
     let p = SurfaceParams {
         choppiness: 0.0,
@@ -317,7 +317,10 @@ fn assert_finite(s: &Surfaces, what: &str) {
             "{what}"
         );
         assert!(
-            c.normal_floats.iter().flatten().all(|v| v.is_finite()),
+            (1..c.grid.mip_levels())
+                .flat_map(|l| c.mip_floats(l).iter().flatten())
+                .chain(c.base_normals().into_iter().flatten().flatten())
+                .all(|v| v.is_finite()),
             "{what}"
         );
         assert!(
@@ -436,7 +439,7 @@ fn foam_accumulates_where_waves_break_and_decays() {
         decay: 0.5,
     };
     let mut core = SimCore::new(cfg.clone()).unwrap();
-    let mut out = Surfaces::new(&cfg);
+    let mut out = Surfaces::with_base_normals(&cfg);
     let mut t = 0.0;
     let mut coverage = Vec::new();
     for _ in 0..60 {
@@ -444,7 +447,7 @@ fn foam_accumulates_where_waves_break_and_decays() {
         core.step(t, &mut out);
         let c = &out.cascades[0];
         let breaking = c.displacement.iter().filter(|d| d[3] < 0.5).count();
-        let foam: f32 = (0..c.displacement.len()).map(|i| c.foam(i)).sum();
+        let foam: f32 = c.base_normals().unwrap().iter().map(|b| b[3]).sum();
         coverage.push((breaking, foam));
     }
     assert!(
@@ -460,12 +463,50 @@ fn foam_accumulates_where_waves_break_and_decays() {
     calm.foam.threshold = 0.0;
     calm.choppiness = 0.0;
     core.set_waves(calm).unwrap();
-    let before: f32 = (0..64 * 64).map(|i| out.cascades[0].foam(i)).sum();
+    let foam_sum = |s: &Surfaces| -> f32 {
+        s.cascades[0]
+            .base_normals()
+            .unwrap()
+            .iter()
+            .map(|b| b[3])
+            .sum()
+    };
+    let before = foam_sum(&out);
     core.step(t + 1.0, &mut out);
-    let after: f32 = (0..64 * 64).map(|i| out.cascades[0].foam(i)).sum();
+    let after = foam_sum(&out);
     let expect = before * (-0.5f32).exp();
     assert!(
         (after - expect).abs() <= 1e-3 * before.max(1.0),
         "{after} vs {expect}"
     );
+}
+
+#[test]
+fn keeping_base_normals_changes_nothing_else() {
+    let cfg = OceanConfig::default_cascades(64).unwrap();
+    let mut a = Surfaces::new(&cfg);
+    let mut b = Surfaces::with_base_normals(&cfg);
+    let mut core_a = SimCore::new(cfg.clone()).unwrap();
+    let mut core_b = SimCore::new(cfg.clone()).unwrap();
+    core_a.step(3.0, &mut a);
+    core_b.step(3.0, &mut b);
+    for (x, y) in a.cascades.iter().zip(&b.cascades) {
+        assert!(x.base_normals().is_none());
+        let base = y.base_normals().unwrap();
+        assert_eq!(x.normal_foam, y.normal_foam);
+        for level in 1..x.grid.mip_levels() {
+            assert_eq!(x.mip_floats(level), y.mip_floats(level));
+        }
+        // Level 1 is the unnormalized average of level 0 (eq. 52).
+        let n = x.grid.n();
+        let l1 = y.mip_floats(1);
+        for (i, v) in l1.iter().enumerate().step_by(7) {
+            let (r, c) = (i / (n / 2), i % (n / 2));
+            let at = |rr: usize, cc: usize| base[(2 * r + rr) * n + 2 * c + cc];
+            for k in 0..4 {
+                let avg = 0.25 * (at(0, 0)[k] + at(0, 1)[k] + at(1, 0)[k] + at(1, 1)[k]);
+                assert!((avg - v[k]).abs() < 1e-6);
+            }
+        }
+    }
 }

@@ -11,7 +11,7 @@ use crate::sim::grid::{AlignedBuf, SplitField};
 use crate::sim::params::{OceanConfig, WaveParams};
 use crate::sim::query;
 use crate::sim::spectrum::{cascade_bands, CascadeSpec, PackedSpectrum};
-use crate::sim::surface::{self, CascadeSurface, SurfaceParams};
+use crate::sim::surface::{self, BaseNormals, CascadeSurface, SurfaceParams};
 
 /// One step's output for every cascade, coarsest first.
 pub struct Surfaces {
@@ -20,13 +20,23 @@ pub struct Surfaces {
 }
 
 impl Surfaces {
-    /// Zeroed surfaces shaped for `config`.
+    /// Zeroed surfaces shaped for `config`, with level-0 normals only as RGBA8 (what a
+    /// renderer needs).
     pub fn new(config: &OceanConfig) -> Self {
+        Self::with_base(config, BaseNormals::Skip)
+    }
+
+    /// Zeroed surfaces that also keep full-precision level-0 normals and foam (export, checks).
+    pub fn with_base_normals(config: &OceanConfig) -> Self {
+        Self::with_base(config, BaseNormals::Keep)
+    }
+
+    fn with_base(config: &OceanConfig, base: BaseNormals) -> Self {
         Self {
             cascades: config
                 .patch_sizes
                 .iter()
-                .map(|&l| CascadeSurface::new(config.grid, l))
+                .map(|&l| CascadeSurface::new(config.grid, l, base))
                 .collect(),
         }
     }

@@ -24,9 +24,10 @@ pub struct CascadeSurface {
     pub displacement_f16: Vec<[f16; 4]>,
     /// RGBA8 normal/foam/smoothness chain (eq. 50-51), mip m at [`pack::mip_offset`].
     pub normal_foam: Vec<u32>,
-    /// Float chain behind `normal_foam`: unnormalized, roughness-scaled normal xyz and foam.
-    /// Level 0 holds each texel's normal scaled to [`pack::normal_length`].
-    pub normal_floats: Vec<[f32; 4]>,
+    /// Float chain behind `normal_foam`: unnormalized, roughness-scaled normal xyz and foam,
+    /// from level 1 (or level 0 with [`BaseNormals::Keep`]); see [`CascadeSurface::floats_offset`].
+    normal_floats: Vec<[f32; 4]>,
+    base: BaseNormals,
     /// Largest |Dx|, |h|, |Dz| over the patch (m): pads LOD bounding boxes.
     pub max_displacement: [f32; 3],
     /// Simulation time (s) these fields show.
@@ -34,34 +35,64 @@ pub struct CascadeSurface {
     row_max: Vec<[f32; 3]>,
 }
 
+/// Whether a surface keeps full-precision level-0 normals and foam. The renderer needs only the
+/// RGBA8 chain; keeping the floats costs a 16-byte-per-texel stream every step (4 MiB at
+/// N = 512), so only export and checks ask for it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BaseNormals {
+    /// Store level-0 float normals and foam ([`CascadeSurface::base_normals`]).
+    Keep,
+    /// Level 0 exists only as RGBA8.
+    Skip,
+}
+
 impl CascadeSurface {
     /// Zeroed surface for one cascade.
-    pub fn new(grid: GridSize, patch: f32) -> Self {
+    pub fn new(grid: GridSize, patch: f32, base: BaseNormals) -> Self {
         let chain = pack::mip_chain_len(grid);
+        let floats = match base {
+            BaseNormals::Keep => chain,
+            BaseNormals::Skip => chain - grid.texels(),
+        };
         Self {
             grid,
             patch,
             displacement: vec![[0.0; 4]; grid.texels()],
             displacement_f16: vec![[f16::ZERO; 4]; grid.texels()],
             normal_foam: vec![0; chain],
-            normal_floats: vec![[0.0; 4]; chain],
+            normal_floats: vec![[0.0; 4]; floats],
+            base,
             max_displacement: [0.0; 3],
             time: 0.0,
             row_max: vec![[0.0; 3]; grid.n()],
         }
     }
 
-    /// Unit normal at texel `i` of level 0 (the stored one is roughness-scaled).
-    pub fn unit_normal(&self, i: usize) -> [f32; 3] {
-        let [x, y, z, _] = self.normal_floats[i];
-        let l = (x * x + y * y + z * z).sqrt();
-        [x / l, y / l, z / l]
+    /// Offset of mip `level` in the float chain (levels below 1 absent with [`BaseNormals::Skip`]).
+    fn floats_offset(&self, level: u32) -> usize {
+        match self.base {
+            BaseNormals::Keep => pack::mip_offset(self.grid, level),
+            BaseNormals::Skip => pack::mip_offset(self.grid, level) - self.grid.texels(),
+        }
     }
 
-    /// Foam coverage [0, 1] at texel `i` of level 0.
-    pub fn foam(&self, i: usize) -> f32 {
-        self.normal_floats[i][3]
+    /// Level-0 roughness-scaled normals (xyz) and foam (w), row-major, when kept.
+    pub fn base_normals(&self) -> Option<&[[f32; 4]]> {
+        (self.base == BaseNormals::Keep).then(|| &self.normal_floats[..self.grid.texels()])
     }
+
+    /// Unnormalized float mip `level` ≥ 1 (normal xyz, foam w), as averaged (eq. 52).
+    pub fn mip_floats(&self, level: u32) -> &[[f32; 4]] {
+        let side = self.grid.n() >> level;
+        let off = self.floats_offset(level);
+        &self.normal_floats[off..off + side * side]
+    }
+}
+
+/// The unit normal of a roughness-scaled normal.
+pub fn unit(n: [f32; 4]) -> [f32; 3] {
+    let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    [n[0] / l, n[1] / l, n[2] / l]
 }
 
 /// Per-step inputs of the surface stage.
@@ -197,72 +228,108 @@ pub fn finalize(
         smooth: pack::smoothness(len),
     };
     // Rows go in pairs so mip level 1 is averaged while both source rows are still in cache.
+    // Level-0 floats live in a per-pair stack buffer, copied out only when the surface keeps
+    // them.
     let side1 = n / 2;
-    let (level0_floats, rest) = out.normal_floats.split_at_mut(n * n);
-    let level1_floats = &mut rest[..side1 * side1];
+    let l1 = out.floats_offset(1);
+    let (level0_floats, level1_floats) = out.normal_floats.split_at_mut(l1);
+    let level1_floats = &mut level1_floats[..side1 * side1];
     let (level0_rgba, rest) = out.normal_foam.split_at_mut(n * n);
     let level1_rgba = &mut rest[..side1 * side1];
-    out.displacement
+    let pair = |pair: usize, p: Pair<'_>, kept: Option<&mut [[f32; 4]]>| {
+        let mut stack = [[0.0f32; 4]; 2 * GridSize::MAX as usize];
+        let floats = &mut stack[..2 * n];
+        let rows = p
+            .disp
+            .chunks_mut(n)
+            .zip(p.disp16.chunks_mut(n))
+            .zip(floats.chunks_mut(n))
+            .zip(p.rgba.chunks_mut(n))
+            .zip(p.foam.chunks_mut(n))
+            .zip(p.row_max.iter_mut());
+        for (i, (((((disp, disp16), floats), rgba), foam), rmax)) in rows.enumerate() {
+            let row = 2 * pair + i;
+            let b = row * n;
+            let r = |f, im| plane_row(f, im, b, n);
+            let surface = SurfaceRow {
+                fields: [
+                    r(&fields[0], false),
+                    r(&fields[0], true),
+                    r(&fields[1], false),
+                    r(&fields[1], true),
+                    r(&fields[2], false),
+                    r(&fields[2], true),
+                    r(&fields[3], false),
+                    r(&fields[3], true),
+                ],
+                disp: &mut *disp,
+                floats,
+                rgba,
+                foam,
+                row_sign: if row & 1 == 0 { 1.0 } else { -1.0 },
+                k,
+            };
+            surface_row(surface, rmax);
+            // The row is still in L1: convert it to RGBA16F here, not in another pass.
+            half::slice::HalfFloatSliceExt::convert_from_f32_slice(
+                bytemuck::cast_slice_mut::<[f16; 4], f16>(disp16),
+                bytemuck::cast_slice::<[f32; 4], f32>(disp),
+            );
+        }
+        let (src0, src1) = floats.split_at(n);
+        mip_row(MipRow {
+            src0,
+            src1,
+            dst: p.floats1,
+            rgba: p.rgba1,
+        });
+        if let Some(kept) = kept {
+            kept.copy_from_slice(floats);
+        }
+    };
+    let pairs = out
+        .displacement
         .par_chunks_mut(2 * n)
         .zip(out.displacement_f16.par_chunks_mut(2 * n))
-        .zip(level0_floats.par_chunks_mut(2 * n))
         .zip(level0_rgba.par_chunks_mut(2 * n))
         .zip(foam.par_chunks_mut(2 * n))
         .zip(out.row_max.par_chunks_mut(2))
         .zip(level1_floats.par_chunks_mut(side1))
         .zip(level1_rgba.par_chunks_mut(side1))
-        .enumerate()
-        .for_each(|(pair, data)| {
-            let (((((((disp, disp16), floats), rgba), foam), rmax), floats1), rgba1) = data;
-            let rows = disp
-                .chunks_mut(n)
-                .zip(disp16.chunks_mut(n))
-                .zip(floats.chunks_mut(n))
-                .zip(rgba.chunks_mut(n))
-                .zip(foam.chunks_mut(n))
-                .zip(rmax.iter_mut());
-            for (i, (((((disp, disp16), floats), rgba), foam), rmax)) in rows.enumerate() {
-                let row = 2 * pair + i;
-                let b = row * n;
-                let r = |f, im| plane_row(f, im, b, n);
-                let surface = SurfaceRow {
-                    fields: [
-                        r(&fields[0], false),
-                        r(&fields[0], true),
-                        r(&fields[1], false),
-                        r(&fields[1], true),
-                        r(&fields[2], false),
-                        r(&fields[2], true),
-                        r(&fields[3], false),
-                        r(&fields[3], true),
-                    ],
-                    disp: &mut *disp,
-                    floats,
-                    rgba,
-                    foam,
-                    row_sign: if row & 1 == 0 { 1.0 } else { -1.0 },
-                    k,
-                };
-                surface_row(surface, rmax);
-                // The row is still in L1: convert it to RGBA16F here, not in another pass.
-                half::slice::HalfFloatSliceExt::convert_from_f32_slice(
-                    bytemuck::cast_slice_mut::<[f16; 4], f16>(disp16),
-                    bytemuck::cast_slice::<[f32; 4], f32>(disp),
-                );
-            }
-            let (src0, src1) = floats.split_at(n);
-            mip_row(MipRow {
-                src0,
-                src1,
-                dst: floats1,
-                rgba: rgba1,
-            });
-        });
+        .map(
+            |((((((disp, disp16), rgba), foam), row_max), floats1), rgba1)| Pair {
+                disp,
+                disp16,
+                rgba,
+                foam,
+                row_max,
+                floats1,
+                rgba1,
+            },
+        )
+        .enumerate();
+    match out.base {
+        BaseNormals::Keep => pairs
+            .zip(level0_floats.par_chunks_mut(2 * n))
+            .for_each(|((i, p), kept)| pair(i, p, Some(kept))),
+        BaseNormals::Skip => pairs.for_each(|(i, p)| pair(i, p, None)),
+    }
     out.max_displacement = out.row_max.iter().fold([0.0f32; 3], |a, r| {
         [a[0].max(r[0]), a[1].max(r[1]), a[2].max(r[2])]
     });
     build_mips(out);
     out.time = time;
+}
+
+/// The outputs of one pair of rows in the surface stage.
+struct Pair<'a> {
+    disp: &'a mut [[f32; 4]],
+    disp16: &'a mut [[f16; 4]],
+    rgba: &'a mut [u32],
+    foam: &'a mut [f32],
+    row_max: &'a mut [[f32; 3]],
+    floats1: &'a mut [[f32; 4]],
+    rgba1: &'a mut [u32],
 }
 
 /// One destination row of a mip level and the two source rows it averages.
@@ -299,13 +366,14 @@ dispatch!(
 fn build_mips(out: &mut CascadeSurface) {
     let grid = out.grid;
     for level in 2..grid.mip_levels() {
-        let src_off = pack::mip_offset(grid, level - 1);
-        let dst_off = pack::mip_offset(grid, level);
+        let src_off = out.floats_offset(level - 1);
+        let dst_off = out.floats_offset(level);
+        let rgba_off = pack::mip_offset(grid, level);
         let side = grid.n() >> level;
         let (lo, hi) = out.normal_floats.split_at_mut(dst_off);
         let src = &lo[src_off..];
         let dst = &mut hi[..side * side];
-        let rgba = &mut out.normal_foam[dst_off..dst_off + side * side];
+        let rgba = &mut out.normal_foam[rgba_off..rgba_off + side * side];
         let src_side = side * 2;
         // Small levels are cheaper than a task hand-off: run them on this thread.
         let rows_per_task = (4096 / side).max(1);
