@@ -190,6 +190,9 @@ struct BenchArgs {
     /// Patch size of each cascade (m); one cascade = four FFTs per step.
     #[arg(long, value_delimiter = ',', default_values_t = [250.0])]
     patch: Vec<f32>,
+    /// Skip the rustfft/FFTW baselines (for thread-scaling runs: their buffers crowd the cache).
+    #[arg(long)]
+    skip_baselines: bool,
 }
 
 fn default_threads() -> usize {
@@ -329,6 +332,7 @@ fn bench_cmd(a: BenchArgs) -> CmdResult {
         threads: a.threads,
         iterations: a.iterations,
         config,
+        baselines: !a.skip_baselines,
     };
     println!(
         "vr-ocean bench: CPU {}, rustfft baseline {}, FFTW baseline {}",

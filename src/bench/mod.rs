@@ -24,6 +24,9 @@ pub struct BenchOptions {
     pub iterations: usize,
     /// Wave parameters and cascades (the grid is replaced by each size).
     pub config: OceanConfig,
+    /// Also time rustfft and FFTW (when compiled in). Their buffers crowd the shared cache,
+    /// which disturbs multi-thread scaling measured in the same rounds, so scaling runs skip them.
+    pub baselines: bool,
 }
 
 /// Median times (ms) for one grid size and thread count.
@@ -58,110 +61,166 @@ fn median_ms(samples: &mut [Duration]) -> f64 {
     samples[samples.len() / 2].as_secs_f64() * 1e3
 }
 
-/// Median of `iterations` timed runs of `run`, each after an untimed `setup` (which refills the
-/// inputs, so repeated in-place transforms never overflow).
-fn time_n<S>(
-    iterations: usize,
-    state: &mut S,
-    mut setup: impl FnMut(&mut S),
-    mut run: impl FnMut(&mut S),
-) -> f64 {
-    let mut samples: Vec<Duration> = (0..iterations + 3)
-        .map(|_| {
-            setup(state);
-            let t = Instant::now();
-            run(state);
-            t.elapsed()
+/// One timed thing; each run returns [evolve, fft, surface, total] (unused parts zero).
+type Contender<'a> = Box<dyn FnMut() -> [Duration; 4] + 'a>;
+
+/// Consecutive runs of one contender per round; the first [`BLOCK_WARMUP`] of each block are
+/// discarded (the previous contender's idle Rayon workers are still spinning then, and caches
+/// hold its data).
+const BLOCK: usize = 8;
+/// Runs discarded at the start of each block.
+const BLOCK_WARMUP: usize = 2;
+
+/// Runs `contenders` in rounds, a block of [`BLOCK`] consecutive runs each per round, so slow
+/// drifts of a shared machine hit all of them alike while every kept run is warm. Returns the
+/// per-part medians (ms) of each contender over about `iterations` kept runs.
+fn interleaved(contenders: &mut [Contender<'_>], iterations: usize) -> Vec<[f64; 4]> {
+    let mut samples: Vec<Vec<[Duration; 4]>> = vec![Vec::new(); contenders.len()];
+    let rounds = iterations.div_ceil(BLOCK - BLOCK_WARMUP);
+    for _ in 0..rounds {
+        for (c, s) in contenders.iter_mut().zip(&mut samples) {
+            for run in 0..BLOCK {
+                let d = c();
+                if run >= BLOCK_WARMUP {
+                    s.push(d);
+                }
+            }
+        }
+    }
+    samples
+        .into_iter()
+        .map(|s| {
+            std::array::from_fn(|k| {
+                let mut part: Vec<Duration> = s.iter().map(|d| d[k]).collect();
+                median_ms(&mut part)
+            })
         })
-        .skip(3)
-        .collect();
-    median_ms(&mut samples)
+        .collect()
 }
 
-/// Runs every size × thread count. Baselines run in the single-thread rows.
+fn pool(threads: usize) -> Result<rayon::ThreadPool, SimError> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| SimError::Threads(e.to_string()))
+}
+
+/// Runs every size: all thread counts and baselines of one size are interleaved (see
+/// [`interleaved`]). Baselines are single-threaded and reported in the 1-thread row.
 pub fn run(opts: &BenchOptions) -> Result<Vec<BenchRow>, SimError> {
     let mut rows = Vec::new();
     for &grid in &opts.sizes {
-        for &threads in &opts.threads {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .map_err(|e| SimError::Threads(e.to_string()))?;
-            let mut cfg = opts.config.clone();
-            cfg.grid = grid;
-            let row = pool.install(|| measure(&cfg, threads, opts.iterations))?;
-            rows.push(row);
-        }
+        let mut cfg = opts.config.clone();
+        cfg.grid = grid;
+        rows.extend(measure(
+            &cfg,
+            &opts.threads,
+            opts.iterations,
+            opts.baselines,
+        )?);
     }
     Ok(rows)
 }
 
-fn measure(cfg: &OceanConfig, threads: usize, iterations: usize) -> Result<BenchRow, SimError> {
-    let mut core = SimCore::new(cfg.clone())?;
-    let mut out = Surfaces::new(cfg);
+fn measure(
+    cfg: &OceanConfig,
+    threads: &[usize],
+    iterations: usize,
+    baselines: bool,
+) -> Result<Vec<BenchRow>, SimError> {
     let n = cfg.grid.n();
-    let mut row = BenchRow {
-        n,
-        threads,
-        backend: core.fft().backend().to_string(),
-        ..BenchRow::default()
-    };
-    let mut spectrum: Vec<Duration> = (0..iterations.clamp(1, 5))
-        .map(|_| core.regenerate_spectrum())
-        .collect();
-    row.spectrum_ms = median_ms(&mut spectrum);
-    let (mut ev, mut ff, mut su, mut st) = (vec![], vec![], vec![], vec![]);
-    let mut t = 0.0;
-    for i in 0..iterations + 3 {
-        t += 1.0 / 72.0;
-        core.step(t, &mut out);
-        let s = core.timings();
-        if i >= 3 {
-            ev.push(s.evolve);
-            ff.push(s.fft);
-            su.push(s.surface);
-            st.push(s.total());
-        }
-    }
-    row.evolve_ms = median_ms(&mut ev);
-    row.fft_ms = median_ms(&mut ff);
-    row.surface_ms = median_ms(&mut su);
-    row.step_ms = median_ms(&mut st);
-
-    let fft = Fft2d::new(cfg.grid);
     let input = test_field(cfg.grid);
-    let fields: Vec<SplitField> = (0..4).map(|_| input.clone()).collect();
-    let scratch: Vec<SplitField> = (0..4).map(|_| SplitField::zeros(cfg.grid)).collect();
-    row.ours_fft4_ms = time_n(
-        iterations,
-        &mut (fields, scratch),
-        |(f, _)| f.iter_mut().for_each(|f| f.clone_from(&input)),
-        |(f, s)| fft.inverse_batch(f, s),
-    );
-    if threads == 1 {
+    let fft = Fft2d::new(cfg.grid);
+    let mut rows = Vec::new();
+    let pools = threads
+        .iter()
+        .map(|&t| pool(t))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut contenders: Vec<Contender<'_>> = Vec::new();
+    for (&t, pool_t) in threads.iter().zip(&pools) {
+        let mut core = pool_t.install(|| SimCore::new(cfg.clone()))?;
+        let spectrum_ms = {
+            let mut d: Vec<Duration> = (0..3)
+                .map(|_| pool_t.install(|| core.regenerate_spectrum()))
+                .collect();
+            median_ms(&mut d)
+        };
+        rows.push(BenchRow {
+            n,
+            threads: t,
+            spectrum_ms,
+            backend: fft.backend().to_string(),
+            ..BenchRow::default()
+        });
+        let mut out = Surfaces::new(cfg);
+        let mut time = 0.0;
+        contenders.push(Box::new(move || {
+            time += 1.0 / 72.0;
+            pool_t.install(|| core.step(time, &mut out));
+            let s = core.timings();
+            [s.evolve, s.fft, s.surface, s.total()]
+        }));
+        let mut fields: Vec<SplitField> = (0..4).map(|_| input.clone()).collect();
+        let mut scratch: Vec<SplitField> = (0..4).map(|_| SplitField::zeros(cfg.grid)).collect();
+        let (fft, input) = (&fft, &input);
+        contenders.push(Box::new(move || {
+            fields.iter_mut().for_each(|f| f.clone_from(input));
+            let start = Instant::now();
+            pool_t.install(|| fft.inverse_batch(&mut fields, &mut scratch));
+            [
+                Duration::ZERO,
+                start.elapsed(),
+                Duration::ZERO,
+                Duration::ZERO,
+            ]
+        }));
+    }
+    let ours = contenders.len();
+    #[cfg(feature = "baselines")]
+    if baselines {
+        let mut b = rustfft_2d::RustFft2d::new(n, 4);
+        contenders.push(Box::new(move || {
+            b.refill();
+            let start = Instant::now();
+            b.inverse_all();
+            [
+                Duration::ZERO,
+                start.elapsed(),
+                Duration::ZERO,
+                Duration::ZERO,
+            ]
+        }));
+    }
+    #[cfg(feature = "fftw")]
+    if baselines {
+        contenders.extend(fftw_contenders(n, &input));
+    }
+    let _ = baselines;
+    let medians = interleaved(&mut contenders, iterations);
+    for (i, row) in rows.iter_mut().enumerate() {
+        let [ev, ff, su, st] = medians[2 * i];
+        (row.evolve_ms, row.fft_ms, row.surface_ms, row.step_ms) = (ev, ff, su, st);
+        row.ours_fft4_ms = medians[2 * i + 1][1];
+    }
+    #[allow(unused_mut)] // only advanced with the `baselines` feature
+    let mut baseline_ms = medians[ours..].iter().map(|m| m[1]);
+    let single = rows.iter_mut().find(|r| r.threads == 1);
+    if let Some(row) = single.filter(|_| baselines) {
         #[cfg(feature = "baselines")]
         {
-            let mut b = rustfft_2d::RustFft2d::new(n, 4);
-            row.rustfft4_ms = Some(time_n(
-                iterations,
-                &mut b,
-                |b| b.refill(),
-                |b| b.inverse_all(),
-            ));
+            row.rustfft4_ms = baseline_ms.next();
         }
-        #[cfg(feature = "fftw")]
-        {
-            row.fftw4_ms = fftw_best_ms(n, &input, iterations);
-        }
+        // FFTW's best set-up.
+        row.fftw4_ms = baseline_ms.reduce(f64::min);
     }
-    Ok(row)
+    Ok(rows)
 }
 
-/// FFTW_PATIENT's best time (ms) for four n×n inverse transforms over its four set-ups (one
-/// `plan_many_dft` or four 2D plans, in place or out of place), so the baseline is FFTW at its
-/// fastest here.
+/// FFTW_PATIENT's four set-ups for four n×n inverse transforms (one `plan_many_dft` or four 2D
+/// plans, in place or out of place); the report takes the fastest, so the baseline is FFTW at
+/// its best here.
 #[cfg(feature = "fftw")]
-fn fftw_best_ms(n: usize, input: &SplitField, iterations: usize) -> Option<f64> {
+fn fftw_contenders<'a>(n: usize, input: &'a SplitField) -> Vec<Contender<'a>> {
     use fftw::{Layout, Plan, FFTW_PATIENT};
     let setups = [
         (Layout::Many, true),
@@ -169,21 +228,27 @@ fn fftw_best_ms(n: usize, input: &SplitField, iterations: usize) -> Option<f64> 
         (Layout::Single, true),
         (Layout::Single, false),
     ];
-    let mut best: Option<f64> = None;
+    let mut out: Vec<Contender<'a>> = Vec::new();
     for (layout, in_place) in setups {
         let Some(mut plan) = Plan::new(n, 4, layout, in_place, FFTW_PATIENT) else {
             continue;
         };
-        let fill = |plan: &mut Plan| {
+        out.push(Box::new(move || {
             for (i, d) in plan.input_mut().iter_mut().enumerate() {
                 let j = i % (n * n);
                 *d = [input.re[j], input.im[j]];
             }
-        };
-        let ms = time_n(iterations, &mut plan, fill, |p| p.execute());
-        best = Some(best.map_or(ms, |b: f64| b.min(ms)));
+            let start = Instant::now();
+            plan.execute();
+            [
+                Duration::ZERO,
+                start.elapsed(),
+                Duration::ZERO,
+                Duration::ZERO,
+            ]
+        }));
     }
-    best
+    out
 }
 
 /// A field of bounded pseudo-random values (transforms of it stay finite).

@@ -296,20 +296,36 @@ fn cmd_bench(opts: &BenchOpts) -> Result<()> {
     } else {
         ensure_apt_packages(BENCH_APT_PACKAGES)?;
     }
-    let mut cmd = cargo();
-    cmd.args([
-        "run",
-        "--release",
-        "--features",
-        "fftw",
-        "--bin",
-        "vr-ocean",
-        "--",
-        "bench",
-    ])
-    .args(&opts.passthrough)
-    .current_dir(&root);
-    run_checked(&mut cmd)?;
+    // Without arguments: the baseline comparison on one thread, then thread scaling without
+    // the baselines (their buffers crowd the shared cache and distort the scaling rounds).
+    let default_runs: [&[&str]; 2] = [
+        &["--threads", "1"],
+        &["--threads", "1,2", "--skip-baselines"],
+    ];
+    let runs: Vec<Vec<String>> = if opts.passthrough.is_empty() {
+        default_runs
+            .iter()
+            .map(|r| r.iter().map(|a| a.to_string()).collect())
+            .collect()
+    } else {
+        vec![opts.passthrough.clone()]
+    };
+    for args in runs {
+        let mut cmd = cargo();
+        cmd.args([
+            "run",
+            "--release",
+            "--features",
+            "fftw",
+            "--bin",
+            "vr-ocean",
+            "--",
+            "bench",
+        ])
+        .args(&args)
+        .current_dir(&root);
+        run_checked(&mut cmd)?;
+    }
     if opts.criterion {
         let mut cmd = cargo();
         cmd.args(["bench", "--features", "fftw", "--bench", "fft"])
