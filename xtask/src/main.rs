@@ -302,13 +302,19 @@ fn cmd_bench(opts: &BenchOpts) -> Result<()> {
         &["--threads", "1"],
         &["--threads", "1,2", "--skip-baselines"],
     ];
-    let runs: Vec<Vec<String>> = if opts.passthrough.is_empty() {
+    // Other arguments are added to both runs; choosing `--threads` yourself makes it one run.
+    let runs: Vec<Vec<String>> = if opts.passthrough.iter().any(|a| a.starts_with("--threads")) {
+        vec![opts.passthrough.clone()]
+    } else {
         default_runs
             .iter()
-            .map(|r| r.iter().map(|a| a.to_string()).collect())
+            .map(|r| {
+                r.iter()
+                    .map(|a| a.to_string())
+                    .chain(opts.passthrough.iter().cloned())
+                    .collect()
+            })
             .collect()
-    } else {
-        vec![opts.passthrough.clone()]
     };
     for args in runs {
         let mut cmd = cargo();
