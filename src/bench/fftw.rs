@@ -101,6 +101,10 @@ pub struct Plan {
     output: Option<Buffer>,
 }
 
+// SAFETY: a plan and its arrays are owned by one `Plan` and used through `&mut self` only;
+// FFTW allows executing a plan from any thread (planning is not involved after `new`).
+unsafe impl Send for Plan {}
+
 impl Plan {
     /// Plans with `flags` (planning may overwrite the arrays; fill them afterwards).
     pub fn new(

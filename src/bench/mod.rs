@@ -62,7 +62,7 @@ fn median_ms(samples: &mut [Duration]) -> f64 {
 }
 
 /// One timed thing; each run returns [evolve, fft, surface, total] (unused parts zero).
-type Contender<'a> = Box<dyn FnMut() -> [Duration; 4] + 'a>;
+type Contender<'a> = Box<dyn FnMut() -> [Duration; 4] + Send + 'a>;
 
 /// Consecutive runs of one contender per round; the first [`BLOCK_WARMUP`] of each block are
 /// discarded (the previous contender's idle Rayon workers are still spinning then, and caches
@@ -164,15 +164,15 @@ fn measure(
         let mut scratch: Vec<SplitField> = (0..4).map(|_| SplitField::zeros(cfg.grid)).collect();
         let (fft, input) = (&fft, &input);
         contenders.push(Box::new(move || {
-            fields.iter_mut().for_each(|f| f.clone_from(input));
-            let start = Instant::now();
-            pool_t.install(|| fft.inverse_batch(&mut fields, &mut scratch));
-            [
-                Duration::ZERO,
-                start.elapsed(),
-                Duration::ZERO,
-                Duration::ZERO,
-            ]
+            // Refill and time on the pool's thread, as FFTW refills and runs on its own: the
+            // inputs then sit in the transforming core's cache for both.
+            let d = pool_t.install(|| {
+                fields.iter_mut().for_each(|f| f.clone_from(input));
+                let start = Instant::now();
+                fft.inverse_batch(&mut fields, &mut scratch);
+                start.elapsed()
+            });
+            [Duration::ZERO, d, Duration::ZERO, Duration::ZERO]
         }));
     }
     let ours = contenders.len();
@@ -196,6 +196,14 @@ fn measure(
         contenders.extend(fftw_contenders(n, &input));
     }
     let _ = baselines;
+    // Baselines run on the single-thread pool's worker, like our single-thread contenders, so
+    // every contender is timed on the same thread and core.
+    if let Some(single) = threads.iter().position(|&t| t == 1).map(|i| &pools[i]) {
+        for c in &mut contenders[ours..] {
+            let mut inner = std::mem::replace(c, Box::new(|| [Duration::ZERO; 4]));
+            *c = Box::new(move || single.install(&mut inner));
+        }
+    }
     let medians = interleaved(&mut contenders, iterations);
     for (i, row) in rows.iter_mut().enumerate() {
         let [ev, ff, su, st] = medians[2 * i];
