@@ -246,6 +246,17 @@ impl Shared {
         // A poisoned lock means the worker panicked; the slot data is still consistent.
         self.slot.lock().unwrap_or_else(|e| e.into_inner())
     }
+
+    /// Waits until the worker has handed a buffer back, takes it and keeps the lock.
+    fn take_done(&self) -> (std::sync::MutexGuard<'_, Slot>, Surfaces) {
+        let mut slot = self.lock();
+        loop {
+            match slot.done.take() {
+                Some(s) => return (slot, s),
+                None => slot = self.wake.wait(slot).unwrap_or_else(|e| e.into_inner()),
+            }
+        }
+    }
 }
 
 /// Why the simulation could not start.
@@ -355,19 +366,7 @@ impl Simulation {
         if self.in_flight {
             self.end_step();
         }
-        let mut slot = self.shared.lock();
-        let back = loop {
-            match slot.done.take() {
-                Some(b) => break b,
-                None => {
-                    slot = self
-                        .shared
-                        .wake
-                        .wait(slot)
-                        .unwrap_or_else(|e| e.into_inner())
-                }
-            }
-        };
+        let (mut slot, back) = self.shared.take_done();
         slot.request = Some((t, back));
         self.in_flight = true;
         drop(slot);
@@ -378,19 +377,7 @@ impl Simulation {
     /// in flight this returns the current surfaces at once.
     pub fn end_step(&mut self) -> &Surfaces {
         if self.in_flight {
-            let mut slot = self.shared.lock();
-            let new = loop {
-                match slot.done.take() {
-                    Some(s) => break s,
-                    None => {
-                        slot = self
-                            .shared
-                            .wake
-                            .wait(slot)
-                            .unwrap_or_else(|e| e.into_inner())
-                    }
-                }
-            };
+            let (mut slot, new) = self.shared.take_done();
             let old = std::mem::replace(&mut self.front, new);
             slot.done = Some(old);
             self.in_flight = false;
