@@ -236,56 +236,58 @@ pub fn finalize(
     let level1_floats = &mut level1_floats[..side1 * side1];
     let (level0_rgba, rest) = out.normal_foam.split_at_mut(n * n);
     let level1_rgba = &mut rest[..side1 * side1];
+    let process_pair =
+        |pair: usize, p: Pair<'_>, kept: Option<&mut [[f32; 4]]>, floats: &mut [[f32; 4]]| {
+            let rows = p
+                .disp
+                .chunks_mut(n)
+                .zip(p.disp16.chunks_mut(n))
+                .zip(floats.chunks_mut(n))
+                .zip(p.rgba.chunks_mut(n))
+                .zip(p.foam.chunks_mut(n))
+                .zip(p.row_max.iter_mut());
+            for (i, (((((disp, disp16), floats), rgba), foam), rmax)) in rows.enumerate() {
+                let row = 2 * pair + i;
+                let b = row * n;
+                let r = |f, im| plane_row(f, im, b, n);
+                let surface = SurfaceRow {
+                    fields: [
+                        r(&fields[0], false),
+                        r(&fields[0], true),
+                        r(&fields[1], false),
+                        r(&fields[1], true),
+                        r(&fields[2], false),
+                        r(&fields[2], true),
+                        r(&fields[3], false),
+                        r(&fields[3], true),
+                    ],
+                    disp: &mut *disp,
+                    floats,
+                    rgba,
+                    foam,
+                    row_sign: if row & 1 == 0 { 1.0 } else { -1.0 },
+                    k,
+                };
+                surface_row(surface, rmax);
+                // The row is still in L1: convert it to RGBA16F here, not in another pass.
+                half::slice::HalfFloatSliceExt::convert_from_f32_slice(
+                    bytemuck::cast_slice_mut::<[f16; 4], f16>(disp16),
+                    bytemuck::cast_slice::<[f32; 4], f32>(disp),
+                );
+            }
+            let (src0, src1) = floats.split_at(n);
+            mip_row(MipRow {
+                src0,
+                src1,
+                dst: p.floats1,
+                rgba: p.rgba1,
+            });
+            if let Some(kept) = kept {
+                kept.copy_from_slice(floats);
+            }
+        };
     let pair = |pair: usize, p: Pair<'_>, kept: Option<&mut [[f32; 4]]>| {
-        let mut stack = [[0.0f32; 4]; 2 * GridSize::MAX as usize];
-        let floats = &mut stack[..2 * n];
-        let rows = p
-            .disp
-            .chunks_mut(n)
-            .zip(p.disp16.chunks_mut(n))
-            .zip(floats.chunks_mut(n))
-            .zip(p.rgba.chunks_mut(n))
-            .zip(p.foam.chunks_mut(n))
-            .zip(p.row_max.iter_mut());
-        for (i, (((((disp, disp16), floats), rgba), foam), rmax)) in rows.enumerate() {
-            let row = 2 * pair + i;
-            let b = row * n;
-            let r = |f, im| plane_row(f, im, b, n);
-            let surface = SurfaceRow {
-                fields: [
-                    r(&fields[0], false),
-                    r(&fields[0], true),
-                    r(&fields[1], false),
-                    r(&fields[1], true),
-                    r(&fields[2], false),
-                    r(&fields[2], true),
-                    r(&fields[3], false),
-                    r(&fields[3], true),
-                ],
-                disp: &mut *disp,
-                floats,
-                rgba,
-                foam,
-                row_sign: if row & 1 == 0 { 1.0 } else { -1.0 },
-                k,
-            };
-            surface_row(surface, rmax);
-            // The row is still in L1: convert it to RGBA16F here, not in another pass.
-            half::slice::HalfFloatSliceExt::convert_from_f32_slice(
-                bytemuck::cast_slice_mut::<[f16; 4], f16>(disp16),
-                bytemuck::cast_slice::<[f32; 4], f32>(disp),
-            );
-        }
-        let (src0, src1) = floats.split_at(n);
-        mip_row(MipRow {
-            src0,
-            src1,
-            dst: p.floats1,
-            rgba: p.rgba1,
-        });
-        if let Some(kept) = kept {
-            kept.copy_from_slice(floats);
-        }
+        with_pair_buffer(n, |floats| process_pair(pair, p, kept, floats))
     };
     let pairs = out
         .displacement
@@ -319,6 +321,20 @@ pub fn finalize(
     });
     build_mips(out);
     out.time = time;
+}
+
+/// Runs `f` on a zeroed stack buffer of exactly 2·`n` texels (one row pair's level-0 floats)
+/// for the common sizes, so no step zeroes more than its rows need.
+fn with_pair_buffer<R>(n: usize, f: impl FnOnce(&mut [[f32; 4]]) -> R) -> R {
+    if n <= 64 {
+        f(&mut [[0.0; 4]; 128][..2 * n])
+    } else if n <= 256 {
+        f(&mut [[0.0; 4]; 512][..2 * n])
+    } else if n <= 512 {
+        f(&mut [[0.0; 4]; 1024][..2 * n])
+    } else {
+        f(&mut [[0.0; 4]; 2 * GridSize::MAX as usize][..2 * n])
+    }
 }
 
 /// The outputs of one pair of rows in the surface stage.
