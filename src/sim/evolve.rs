@@ -89,63 +89,185 @@ pub fn height_spectrum(spectrum: &PackedSpectrum, phase: LoopPhase, out: &mut Sp
         });
 }
 
-/// One row of the evolution: inputs, outputs and the row's constants.
-struct EvolveRow<'a> {
-    s: [&'a [f32]; 4],
-    harm: &'a [u32],
-    out: [&'a mut [f32]; 8],
+/// The four packed spectra at one wave vector and at its mirror −k, from h̃(k) and the wave
+/// vector. Each field packs two real fields A + i·B whose spectra are Hermitian, so with
+/// Ã(k) = (ar, ai) and B̃(k) = (br, bi): C(k) = (ar − bi, ai + br) and
+/// C(−k) = conj Ã + i·conj B̃ = (ar + bi, br − ai). Returns ([C(k)], [C(−k)]) as 8 floats each
+/// (re, im of fields 0..4).
+#[inline(always)]
+fn packed_pair(hr: f32, hi: f32, ux: f32, uz: f32, kx: f32, kz: f32) -> ([f32; 8], [f32; 8]) {
+    // (Ã, B̃) per field, from the table in the module docs.
+    let pairs = [
+        ((hr, hi), (-ux * hi, ux * hr)),                       // h, X
+        ((-uz * hi, uz * hr), (-kx * hi, kx * hr)),            // Z, ∂h/∂x
+        ((-kz * hi, kz * hr), (-kx * ux * hr, -kx * ux * hi)), // ∂h/∂z, ∂X/∂x
+        (
+            (-kz * uz * hr, -kz * uz * hi),
+            (-kz * ux * hr, -kz * ux * hi),
+        ), // ∂Z/∂z, ∂X/∂z
+    ];
+    let mut at = [0.0; 8];
+    let mut mirror = [0.0; 8];
+    for (f, ((ar, ai), (br, bi))) in pairs.into_iter().enumerate() {
+        at[2 * f] = ar - bi;
+        at[2 * f + 1] = ai + br;
+        mirror[2 * f] = ar + bi;
+        mirror[2 * f + 1] = br - ai;
+    }
+    (at, mirror)
+}
+
+/// Inputs and constants shared by the rows of one step.
+#[derive(Clone, Copy)]
+struct EvolveConsts {
     phase: LoopPhase,
     dk: f32,
-    gz: f32,
     half: f32,
 }
 
+/// What every texel of one row reads.
+#[derive(Clone, Copy)]
+struct RowInputs<'a> {
+    s: [&'a [f32]; 4],
+    harm: &'a [u32],
+    phase: LoopPhase,
+    dk: f32,
+    half: f32,
+    gz: f32,
+    kz: f32,
+}
+
+/// The packed spectra at column `col` of the row and at its mirror (see [`packed_pair`]).
 #[inline(always)]
-fn evolve_row_kernel(row: EvolveRow<'_>) {
+fn texel(row: &RowInputs<'_>, col: usize) -> ([f32; 8], [f32; 8]) {
+    let (sin, cos) = sincos_turns(row.phase.turns(row.harm[col]));
+    let (hr, hi) = evolved(&row.s, col, sin, cos);
+    // Unit wave direction with the DC-safe rsqrt of eq. 28 (grid units).
+    let gx = col as i32 as f32 - row.half;
+    let gz = row.gz;
+    let inv = 1.0 / (gx * gx + gz * gz).max(1.0).sqrt();
+    packed_pair(hr, hi, gx * inv, gz * inv, gx * row.dk, row.kz)
+}
+
+/// Row r into `o*` and, with `MIRROR`, row N − r into `m*` (pass empty slices otherwise).
+/// Column c of row r maps to column (N − c) mod N of row N − r; column 0 (Nyquist, zero in
+/// every field) is done before the loop so the mirror stores run backwards contiguously. The
+/// planes are separate arguments so the compiler knows they do not alias and vectorizes.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn evolve_rows_kernel<const MIRROR: bool>(
+    row: RowInputs<'_>,
+    o0: &mut [f32],
+    o1: &mut [f32],
+    o2: &mut [f32],
+    o3: &mut [f32],
+    o4: &mut [f32],
+    o5: &mut [f32],
+    o6: &mut [f32],
+    o7: &mut [f32],
+    m0: &mut [f32],
+    m1: &mut [f32],
+    m2: &mut [f32],
+    m3: &mut [f32],
+    m4: &mut [f32],
+    m5: &mut [f32],
+    m6: &mut [f32],
+    m7: &mut [f32],
+) {
     let n = row.harm.len();
-    let s = [
-        &row.s[0][..n],
-        &row.s[1][..n],
-        &row.s[2][..n],
-        &row.s[3][..n],
-    ];
-    let [r0, i0, r1, i1, r2, i2, r3, i3] = row.out;
-    // Exact-length slices let the compiler drop bounds checks and vectorize.
-    let (r0, i0, r1, i1) = (&mut r0[..n], &mut i0[..n], &mut r1[..n], &mut i1[..n]);
-    let (r2, i2, r3, i3) = (&mut r2[..n], &mut i2[..n], &mut r3[..n], &mut i3[..n]);
-    let (dk, gz, half) = (row.dk, row.gz, row.half);
-    let kz = gz * dk;
-    for col in 0..n {
-        let (sin, cos) = sincos_turns(row.phase.turns(row.harm[col]));
-        let (hr, hi) = evolved(&s, col, sin, cos);
-        // Unit wave direction with the DC-safe rsqrt of eq. 28 (grid units).
-        let gx = col as i32 as f32 - half;
-        let inv = 1.0 / (gx * gx + gz * gz).max(1.0).sqrt();
-        let (ux, uz) = (gx * inv, gz * inv);
-        let kx = gx * dk;
-        // Field 0: h̃·(1 − uₓ).
-        let f = 1.0 - ux;
-        r0[col] = hr * f;
-        i0[col] = hi * f;
-        // Field 1: h̃·(−kₓ + i·u_z).
-        r1[col] = -hr * kx - hi * uz;
-        i1[col] = hr * uz - hi * kx;
-        // Field 2: i·h̃·(k_z − kₓ·uₓ).
-        let g = kz - kx * ux;
-        r2[col] = -hi * g;
-        i2[col] = hr * g;
-        // Field 3: −k_z·h̃·(u_z + i·uₓ).
-        let (p, q) = (kz * uz, kz * ux);
-        r3[col] = hi * q - hr * p;
-        i3[col] = -(hr * q + hi * p);
+    let row = RowInputs {
+        s: row.s.map(|p| &p[..n]),
+        ..row
+    };
+    let (o0, o1, o2, o3) = (&mut o0[..n], &mut o1[..n], &mut o2[..n], &mut o3[..n]);
+    let (o4, o5, o6, o7) = (&mut o4[..n], &mut o5[..n], &mut o6[..n], &mut o7[..n]);
+    let m = if MIRROR { n } else { 0 };
+    let (m0, m1, m2, m3) = (&mut m0[..m], &mut m1[..m], &mut m2[..m], &mut m3[..m]);
+    let (m4, m5, m6, m7) = (&mut m4[..m], &mut m5[..m], &mut m6[..m], &mut m7[..m]);
+    let (at, mir) = texel(&row, 0);
+    (o0[0], o1[0], o2[0], o3[0]) = (at[0], at[1], at[2], at[3]);
+    (o4[0], o5[0], o6[0], o7[0]) = (at[4], at[5], at[6], at[7]);
+    if MIRROR {
+        (m0[0], m1[0], m2[0], m3[0]) = (mir[0], mir[1], mir[2], mir[3]);
+        (m4[0], m5[0], m6[0], m7[0]) = (mir[4], mir[5], mir[6], mir[7]);
+    }
+    for col in 1..n {
+        let (at, mir) = texel(&row, col);
+        (o0[col], o1[col], o2[col], o3[col]) = (at[0], at[1], at[2], at[3]);
+        (o4[col], o5[col], o6[col], o7[col]) = (at[4], at[5], at[6], at[7]);
+        if MIRROR {
+            let mc = n - col;
+            (m0[mc], m1[mc], m2[mc], m3[mc]) = (mir[0], mir[1], mir[2], mir[3]);
+            (m4[mc], m5[mc], m6[mc], m7[mc]) = (mir[4], mir[5], mir[6], mir[7]);
+        }
     }
 }
 
-dispatch!(fn evolve_row(row: EvolveRow<'_>) => evolve_row_kernel);
+macro_rules! rows_variant {
+    ($name:ident, $mirror:literal) => {
+        dispatch!(
+            #[allow(clippy::too_many_arguments)]
+            fn $name(
+                row: RowInputs<'_>,
+                o0: &mut [f32],
+                o1: &mut [f32],
+                o2: &mut [f32],
+                o3: &mut [f32],
+                o4: &mut [f32],
+                o5: &mut [f32],
+                o6: &mut [f32],
+                o7: &mut [f32],
+                m0: &mut [f32],
+                m1: &mut [f32],
+                m2: &mut [f32],
+                m3: &mut [f32],
+                m4: &mut [f32],
+                m5: &mut [f32],
+                m6: &mut [f32],
+                m7: &mut [f32],
+            ) => evolve_rows_kernel::<$mirror>
+        );
+    };
+}
+rows_variant!(evolve_pair_rows, true);
+rows_variant!(evolve_single_row, false);
+
+/// Runs one row (`mirror` empty: the row is its own mirror) or a mirrored pair.
+fn evolve_rows(row: RowInputs<'_>, out: [&mut [f32]; 8], mirror: [&mut [f32]; 8]) {
+    let [o0, o1, o2, o3, o4, o5, o6, o7] = out;
+    let [m0, m1, m2, m3, m4, m5, m6, m7] = mirror;
+    if m0.is_empty() {
+        evolve_single_row(
+            row, o0, o1, o2, o3, o4, o5, o6, o7, m0, m1, m2, m3, m4, m5, m6, m7,
+        )
+    } else {
+        evolve_pair_rows(
+            row, o0, o1, o2, o3, o4, o5, o6, o7, m0, m1, m2, m3, m4, m5, m6, m7,
+        )
+    }
+}
+
+/// The same row of 8 planes as one item: a parallel iterator over rows of all planes at once.
+fn rows8(
+    planes: [&mut [f32]; 8],
+    n: usize,
+) -> impl IndexedParallelIterator<Item = [&mut [f32]; 8]> {
+    let [a, b, c, d, e, f, g, h] = planes;
+    a.par_chunks_mut(n)
+        .zip(b.par_chunks_mut(n))
+        .zip(c.par_chunks_mut(n))
+        .zip(d.par_chunks_mut(n))
+        .zip(e.par_chunks_mut(n))
+        .zip(f.par_chunks_mut(n))
+        .zip(g.par_chunks_mut(n))
+        .zip(h.par_chunks_mut(n))
+        .map(|(((((((a, b), c), d), e), f), g), h)| [a, b, c, d, e, f, g, h])
+}
 
 /// Writes the four packed field spectra at loop phase `phase` (eq. 24) for a cascade of patch
-/// size `patch` (m). Parallel over rows on the current Rayon pool; element-wise, so the output
-/// is the same for any thread count.
+/// size `patch` (m). Rows r and N − r are computed together (Hermitian symmetry), so the
+/// evolution and its spectrum reads cover half the grid. Parallel over row pairs on the current
+/// Rayon pool; element-wise, so the output is the same for any thread count.
 pub fn evolve(
     spectrum: &PackedSpectrum,
     patch: f32,
@@ -153,37 +275,50 @@ pub fn evolve(
     fields: &mut [SplitField; 4],
 ) {
     let n = spectrum.grid.n();
-    let dk = std::f32::consts::TAU / patch;
-    let half = (n / 2) as f32;
+    let half = n / 2;
+    let k = EvolveConsts {
+        phase,
+        dk: std::f32::consts::TAU / patch,
+        half: half as f32,
+    };
     let [f0, f1, f2, f3] = fields;
     let (r0, i0) = f0.planes_mut();
     let (r1, i1) = f1.planes_mut();
     let (r2, i2) = f2.planes_mut();
     let (r3, i3) = f3.planes_mut();
-    let outs = r0
-        .par_chunks_mut(n)
-        .zip(i0.par_chunks_mut(n))
-        .zip(r1.par_chunks_mut(n).zip(i1.par_chunks_mut(n)))
-        .zip(r2.par_chunks_mut(n).zip(i2.par_chunks_mut(n)))
-        .zip(r3.par_chunks_mut(n).zip(i3.par_chunks_mut(n)))
-        .enumerate();
-    outs.for_each(|(row, ((((r0, i0), (r1, i1)), (r2, i2)), (r3, i3)))| {
-        let base = row * n;
-        evolve_row(EvolveRow {
-            s: [
-                &spectrum.s[0][base..base + n],
-                &spectrum.s[1][base..base + n],
-                &spectrum.s[2][base..base + n],
-                &spectrum.s[3][base..base + n],
-            ],
-            harm: &spectrum.harmonic[base..base + n],
-            out: [r0, i0, r1, i1, r2, i2, r3, i3],
-            phase,
-            dk,
-            gz: row as f32 - half,
-            half,
-        });
-    });
+    // Each plane: row 0 | rows 1..N/2 | row N/2 | rows N/2+1..N.
+    let mut row0: [&mut [f32]; 8] = Default::default();
+    let mut top: [&mut [f32]; 8] = Default::default();
+    let mut mid: [&mut [f32]; 8] = Default::default();
+    let mut bottom: [&mut [f32]; 8] = Default::default();
+    for (i, plane) in [r0, i0, r1, i1, r2, i2, r3, i3].into_iter().enumerate() {
+        let (a, rest) = plane.split_at_mut(n);
+        let (b, rest) = rest.split_at_mut((half - 1) * n);
+        let (c, d) = rest.split_at_mut(n);
+        (row0[i], top[i], mid[i], bottom[i]) = (a, b, c, d);
+    }
+    let row_of = |r: usize| -> RowInputs<'_> {
+        let b = r * n;
+        let gz = r as f32 - k.half;
+        RowInputs {
+            s: std::array::from_fn(|c| &spectrum.s[c][b..b + n]),
+            harm: &spectrum.harmonic[b..b + n],
+            phase: k.phase,
+            dk: k.dk,
+            half: k.half,
+            gz,
+            kz: gz * k.dk,
+        }
+    };
+    // The two rows that are their own mirror: the Nyquist row 0 and k_z = 0.
+    for (r, out) in [(0, row0), (half, mid)] {
+        evolve_rows(row_of(r), out, Default::default());
+    }
+    // Rows 1..N/2 ascending pair with rows N−1..N/2+1 descending.
+    rows8(top, n)
+        .zip(rows8(bottom, n).rev())
+        .enumerate()
+        .for_each(|(j, (out, mirror))| evolve_rows(row_of(j + 1), out, mirror));
 }
 
 #[cfg(test)]
