@@ -1,7 +1,8 @@
 //! vr-ocean: an endless FFT ocean for OpenXR headsets.
 //!
-//! Data flows one way: [`sim`] (CPU ocean fields) → lod → render → xr. See `ARCHITECTURE.md`.
+//! Data flows one way: [`sim`] (CPU ocean fields) → [`lod`] (quadtree geometry) → render → xr. See `ARCHITECTURE.md`.
 
 pub mod bench;
 pub mod export;
+pub mod lod;
 pub mod sim;

@@ -1,0 +1,149 @@
+//! Instance data and batching (section 5.6): the visible patches sorted by stitch configuration,
+//! one instanced draw per configuration that has instances.
+
+use bytemuck::{Pod, Zeroable};
+
+use super::stitch::StitchFlags;
+
+/// Per-patch instance data, 40 bytes, read by the patch vertex shader (eq. 70: the patch is the
+/// unit grid scaled by `size` and moved to `centre`; no rotation).
+///
+/// The vertex shader computes, for unit vertex (u, 0, v) ∈ [−0.5, 0.5]² (eq. 67) with grid
+/// index (i, j) = round((u + 0.5)·V, (v + 0.5)·V) and h = `size` / V:
+///
+/// ```text
+/// p   = centre + size · (u, v)                     // world xz, undisplaced
+/// d   = length(vec3(p.x, 0, p.y) − camera)         // camera: the viewer the LOD used
+/// p  -= morph_offset(p, h,     k(d, morph))        // odd level-l vertices slide onto even ones
+/// if vertex is on an edge whose `stitch` bit is set (i = V: E, j = V: N, i = 0: W, j = 0: S):
+///     p -= morph_offset(p₀, 2h, k(d, coarse_morph)) // follow the coarser neighbour's own morph
+/// k(d, r)              = clamp((d − r.x) / (r.y − r.x), 0, 1)
+/// morph_offset(p, h, k) = select(0, h·k, odd(round(p / h))) per axis (x and z separately)
+/// ```
+///
+/// where p₀ is the undisplaced position (world lattice coordinates round(p/h) are integers
+/// because the grid origin is snapped to S/V). Then the ocean displacement is sampled at the
+/// morphed p. Both patches on either side of every edge compute identical positions for every
+/// shared vertex, so the morph never opens a crack ([`crate::lod::morph`] is the reference
+/// implementation the watertightness tests run).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct PatchInstance {
+    /// Patch centre (world x, z), metres.
+    pub centre: [f32; 2],
+    /// Patch side s_l = S / 2^l (m).
+    pub size: f32,
+    /// LOD level l.
+    pub level: u32,
+    /// Morph range [start, end] (m) of this level.
+    pub morph: [f32; 2],
+    /// Morph range of level l − 1, applied to vertices on stitched edges.
+    pub coarse_morph: [f32; 2],
+    /// Stitch flags (eq. 64), the same as the draw's configuration.
+    pub stitch: u32,
+    /// Cascade fade: the patch's vertex spacing s_l / V (m). The renderer fades out a cascade
+    /// whose patch length is under 4 × this (its waves would alias on this mesh).
+    pub vertex_spacing: f32,
+}
+
+/// One instanced draw: submesh `stitch` of the patch mesh, instances
+/// `first_instance .. first_instance + instance_count` of the instance buffer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DrawBatch {
+    /// The stitch configuration: index set to bind.
+    pub stitch: StitchFlags,
+    /// First instance in [`Batches::instances`].
+    pub first_instance: u32,
+    /// Instances in this draw (≥ 1).
+    pub instance_count: u32,
+}
+
+/// The frame's instance buffer (sorted by stitch configuration) and its ≤ 16 draws, reused
+/// across frames.
+#[derive(Clone, Debug, Default)]
+pub struct Batches {
+    instances: Vec<PatchInstance>,
+    draws: Vec<DrawBatch>,
+}
+
+impl Batches {
+    /// Buffers for up to `max_instances` patches.
+    pub fn with_capacity(max_instances: usize) -> Self {
+        Self {
+            instances: Vec::with_capacity(max_instances),
+            draws: Vec::with_capacity(16),
+        }
+    }
+
+    /// Counting sort of `patches` by stitch configuration into the instance buffer.
+    pub fn build(&mut self, patches: impl Iterator<Item = PatchInstance> + Clone) {
+        let mut counts = [0u32; 16];
+        for p in patches.clone() {
+            counts[p.stitch as usize & 15] += 1;
+        }
+        let mut offsets = [0u32; 16];
+        let mut total = 0;
+        self.draws.clear();
+        for (k, &n) in counts.iter().enumerate() {
+            offsets[k] = total;
+            if n > 0 {
+                self.draws.push(DrawBatch {
+                    stitch: StitchFlags::from_bits(k as u8),
+                    first_instance: total,
+                    instance_count: n,
+                });
+            }
+            total += n;
+        }
+        self.instances.clear();
+        self.instances
+            .resize(total as usize, PatchInstance::zeroed());
+        for p in patches {
+            let k = p.stitch as usize & 15;
+            self.instances[offsets[k] as usize] = p;
+            offsets[k] += 1;
+        }
+    }
+
+    /// The instance buffer, grouped by configuration in the order of [`Self::draws`].
+    pub fn instances(&self) -> &[PatchInstance] {
+        &self.instances
+    }
+
+    /// The instanced draws, at most 16.
+    pub fn draws(&self) -> &[DrawBatch] {
+        &self.draws
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn instance_is_compact_and_pod() {
+        assert_eq!(std::mem::size_of::<PatchInstance>(), 40);
+        let i = PatchInstance {
+            stitch: 5,
+            ..Default::default()
+        };
+        assert_eq!(bytemuck::bytes_of(&i).len(), 40);
+    }
+
+    #[test]
+    fn batches_group_by_configuration() {
+        let mut b = Batches::with_capacity(8);
+        let p = |s: u32, x: f32| PatchInstance {
+            centre: [x, 0.0],
+            stitch: s,
+            ..Default::default()
+        };
+        b.build([p(3, 0.0), p(0, 1.0), p(3, 2.0), p(15, 3.0)].into_iter());
+        assert_eq!(b.draws().len(), 3);
+        assert_eq!(b.draws()[1].stitch.bits(), 3);
+        assert_eq!(b.draws()[1].instance_count, 2);
+        let third = &b.instances()[b.draws()[1].first_instance as usize..][..2];
+        assert_eq!(third[0].centre[0], 0.0);
+        assert_eq!(third[1].centre[0], 2.0);
+    }
+}

@@ -1,0 +1,286 @@
+//! Stereo frustum culling: the union of the two eye frusta, with the positive-vertex AABB test
+//! of eq. 59-60 on boxes padded by the simulation's real maximum displacement (eq. 61).
+
+use glam::{Quat, Vec3, Vec4};
+
+use crate::sim::ParamError;
+
+/// Near-plane distance (m) of the culling frusta. The far plane is at infinity (the usual VR
+/// infinite reverse-Z projection), so five of eq. 60's six planes are tested.
+pub const NEAR_PLANE: f32 = 0.05;
+
+/// An eye's field of view as OpenXR reports it (`XrFovf`), in radians: `angle_left` and
+/// `angle_down` are usually negative. The view looks along −z with +y up and +x right.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fov {
+    /// Angle of the left edge (rad, negative when left of the view axis).
+    pub angle_left: f32,
+    /// Angle of the right edge (rad).
+    pub angle_right: f32,
+    /// Angle of the top edge (rad).
+    pub angle_up: f32,
+    /// Angle of the bottom edge (rad, negative when below the view axis).
+    pub angle_down: f32,
+}
+
+impl Fov {
+    /// A symmetric field of view of `horizontal` × `vertical` radians.
+    pub fn symmetric(horizontal: f32, vertical: f32) -> Self {
+        Self {
+            angle_left: -horizontal / 2.0,
+            angle_right: horizontal / 2.0,
+            angle_up: vertical / 2.0,
+            angle_down: -vertical / 2.0,
+        }
+    }
+
+    /// Checks every angle is finite and in (−π/2, π/2) and each opening (right − left,
+    /// up − down) is positive, so each is in (0, π).
+    pub fn validate(&self) -> Result<(), ParamError> {
+        let half_pi = std::f32::consts::FRAC_PI_2;
+        let range = "an angle in (-π/2, π/2) rad";
+        for (name, a) in [
+            ("fov.angle_left", self.angle_left),
+            ("fov.angle_right", self.angle_right),
+            ("fov.angle_up", self.angle_up),
+            ("fov.angle_down", self.angle_down),
+        ] {
+            if !(a.is_finite() && a.abs() < half_pi) {
+                return Err(ParamError::new(name, a as f64, range));
+            }
+        }
+        let h = self.angle_right - self.angle_left;
+        if h <= 0.0 {
+            return Err(ParamError::new(
+                "fov horizontal (angle_right - angle_left)",
+                h as f64,
+                "an opening in (0, π) rad",
+            ));
+        }
+        let v = self.angle_up - self.angle_down;
+        if v <= 0.0 {
+            return Err(ParamError::new(
+                "fov vertical (angle_up - angle_down)",
+                v as f64,
+                "an opening in (0, π) rad",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// An eye's pose in world space (OpenXR `XrPosef`: y up, metres).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EyeView {
+    /// Eye position (m).
+    pub position: Vec3,
+    /// Eye orientation (unit quaternion; normalised on use).
+    pub orientation: Quat,
+    /// Field of view.
+    pub fov: Fov,
+}
+
+impl EyeView {
+    /// An eye at `position` turned by `yaw` about +y then `pitch` about its x axis (rad; yaw 0,
+    /// pitch 0 looks along −z; positive pitch looks up).
+    pub fn looking(position: Vec3, yaw: f32, pitch: f32, fov: Fov) -> Self {
+        Self {
+            position,
+            orientation: Quat::from_rotation_y(yaw) * Quat::from_rotation_x(pitch),
+            fov,
+        }
+    }
+}
+
+fn validate_position(name: &'static str, p: Vec3) -> Result<(), ParamError> {
+    for c in p.to_array() {
+        if !(c.is_finite() && c.abs() <= MAX_COORDINATE) {
+            return Err(ParamError::new(
+                name,
+                c as f64,
+                "finite coordinates within ±1e7 m",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Largest accepted camera coordinate (m); beyond it f32 cannot place a vertex to a centimetre.
+pub const MAX_COORDINATE: f32 = 1.0e7;
+
+/// Checks a viewer position: finite, within ±[`MAX_COORDINATE`].
+pub fn validate_viewer(p: Vec3) -> Result<(), ParamError> {
+    validate_position("camera position", p)
+}
+
+/// One eye's culling volume: five inward planes (n, d) with n·x + d ≥ 0 inside (eq. 60).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frustum {
+    planes: [Vec4; 5],
+}
+
+impl Frustum {
+    /// The frustum of `eye` (validated) with near plane [`NEAR_PLANE`].
+    pub fn new(eye: &EyeView) -> Result<Self, ParamError> {
+        eye.fov.validate()?;
+        validate_position("eye position", eye.position)?;
+        let q = eye.orientation;
+        let len = q.length();
+        if !(len.is_finite() && len > 1e-6) {
+            return Err(ParamError::new(
+                "eye orientation",
+                len as f64,
+                "a finite non-zero quaternion",
+            ));
+        }
+        let q = q / len;
+        let f = eye.fov;
+        let (tl, tr, tu, td) = (
+            f.angle_left.tan(),
+            f.angle_right.tan(),
+            f.angle_up.tan(),
+            f.angle_down.tan(),
+        );
+        // View space (looking along −z): inside means x ≥ tl·(−z), x ≤ tr·(−z), y ≤ tu·(−z),
+        // y ≥ td·(−z), −z ≥ near.
+        let view = [
+            (Vec3::new(1.0, 0.0, tl), 0.0),
+            (Vec3::new(-1.0, 0.0, -tr), 0.0),
+            (Vec3::new(0.0, -1.0, -tu), 0.0),
+            (Vec3::new(0.0, 1.0, td), 0.0),
+            (Vec3::new(0.0, 0.0, -1.0), -NEAR_PLANE),
+        ];
+        // n_v·x_v + d_v with x_v = q⁻¹(x − p) is (q·n_v)·x + d_v − (q·n_v)·p in world space.
+        let planes = view.map(|(n, d): (Vec3, f32)| {
+            let len = n.length();
+            let n = q * (n / len);
+            n.extend(d / len - n.dot(eye.position))
+        });
+        Ok(Self { planes })
+    }
+
+    /// The five planes (xyz = inward unit normal, w = d).
+    pub fn planes(&self) -> &[Vec4; 5] {
+        &self.planes
+    }
+
+    /// Eq. 59-60: the box (centre `c`, half-extents `e`) is kept unless it lies wholly outside one
+    /// plane, tested at its positive vertex. Conservative: may keep a box that is just outside
+    /// near an edge of the frustum, never drops one that intersects it.
+    #[inline]
+    pub fn intersects_aabb(&self, c: Vec3, e: Vec3) -> bool {
+        self.planes.iter().all(|p| {
+            let n = p.truncate();
+            // n · (c + select(−e, e, n ≥ 0)) + d = n·c + |n|·e + d.
+            n.dot(c) + n.abs().dot(e) + p.w >= 0.0
+        })
+    }
+}
+
+/// The two eyes of one frame: patches are kept when either eye's frustum may see them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StereoFrustum {
+    eyes: [EyeView; 2],
+    frusta: [Frustum; 2],
+}
+
+impl StereoFrustum {
+    /// Validates both eyes (FOV angles, positions, orientations) and builds their frusta.
+    pub fn new(left: EyeView, right: EyeView) -> Result<Self, ParamError> {
+        Ok(Self {
+            frusta: [Frustum::new(&left)?, Frustum::new(&right)?],
+            eyes: [left, right],
+        })
+    }
+
+    /// The eyes, left then right.
+    pub fn eyes(&self) -> &[EyeView; 2] {
+        &self.eyes
+    }
+
+    /// The frusta, left then right.
+    pub fn frusta(&self) -> &[Frustum; 2] {
+        &self.frusta
+    }
+
+    /// The point between the eyes: the viewer the LOD distances are measured from.
+    pub fn centre(&self) -> Vec3 {
+        (self.eyes[0].position + self.eyes[1].position) * 0.5
+    }
+
+    /// Union culling: the box is kept when it passes all planes of either eye.
+    #[inline]
+    pub fn intersects_aabb(&self, c: Vec3, e: Vec3) -> bool {
+        self.frusta[0].intersects_aabb(c, e) || self.frusta[1].intersects_aabb(c, e)
+    }
+}
+
+/// The simulation's maximum displacement (max |Dx|, max |h|, max |Dz|, metres), as
+/// [`crate::sim::Surfaces::max_displacement`] returns it: the padding of every patch's box.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MaxDisplacement([f32; 3]);
+
+impl MaxDisplacement {
+    /// Validates: each component finite and in [0, 1000] m.
+    pub fn new(d: [f32; 3]) -> Result<Self, ParamError> {
+        for c in d {
+            if !(c.is_finite() && (0.0..=1000.0).contains(&c)) {
+                return Err(ParamError::new(
+                    "max displacement",
+                    c as f64,
+                    "finite components in [0, 1000] (m)",
+                ));
+            }
+        }
+        Ok(Self(d))
+    }
+
+    /// (max |Dx|, max |h|, max |Dz|) in metres.
+    pub fn get(self) -> [f32; 3] {
+        self.0
+    }
+}
+
+/// The culling box of a patch of size `s` centred at (cx, 0, cz) (eq. 61 with the real
+/// displacement): half-extents (s·β/2 + max|Dx|, max|h|, s·β/2 + max|Dz|). The thesis's
+/// h_max/2 vertical extent assumes a box spanning h_max; the surface moves ±max|h|.
+pub fn patch_box(centre_xz: [f32; 2], size: f32, beta: f32, pad: MaxDisplacement) -> (Vec3, Vec3) {
+    let [dx, h, dz] = pad.get();
+    let half = size * beta * 0.5;
+    (
+        Vec3::new(centre_xz[0], 0.0, centre_xz[1]),
+        Vec3::new(half + dx, h, half + dz),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bad_fov_is_named() {
+        let ok = Fov::symmetric(1.6, 1.6);
+        assert!(ok.validate().is_ok());
+        let e = Fov::symmetric(0.0, 1.0).validate().unwrap_err();
+        assert!(e.parameter.contains("horizontal"));
+        let e = Fov::symmetric(1.0, -1.0).validate().unwrap_err();
+        assert!(e.parameter.contains("angle_up"));
+        let e = Fov::symmetric(std::f32::consts::PI, 1.0)
+            .validate()
+            .unwrap_err();
+        assert!(e.parameter.contains("angle_left"));
+        let mut f = ok;
+        f.angle_up = f32::NAN;
+        assert_eq!(f.validate().unwrap_err().parameter, "fov.angle_up");
+    }
+
+    #[test]
+    fn boxes_in_front_are_kept_behind_are_culled() {
+        let eye = EyeView::looking(Vec3::new(0.0, 2.0, 0.0), 0.0, 0.0, Fov::symmetric(1.5, 1.5));
+        let f = Frustum::new(&eye).unwrap();
+        assert!(f.intersects_aabb(Vec3::new(0.0, 0.0, -20.0), Vec3::splat(1.0)));
+        assert!(!f.intersects_aabb(Vec3::new(0.0, 0.0, 20.0), Vec3::splat(1.0)));
+        assert!(!f.intersects_aabb(Vec3::new(-200.0, 0.0, -20.0), Vec3::splat(1.0)));
+        assert!(!f.intersects_aabb(Vec3::new(0.0, 50.0, -20.0), Vec3::splat(1.0)));
+    }
+}

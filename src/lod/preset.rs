@@ -1,0 +1,233 @@
+//! Quality presets (thesis Table 2) and the ocean size S with its derived quadtree constants
+//! (eq. 56, 62, 69).
+
+use crate::sim::ParamError;
+
+/// A quality preset of thesis Table 2: patch resolution V, LOD distance scale τ and cull scale β.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum QualityPreset {
+    /// V = 16, τ = 2.0, β = 1.2.
+    Low,
+    /// V = 32, τ = 1.5, β = 1.5.
+    Medium,
+    /// V = 64, τ = 1.2, β = 1.8.
+    High,
+    /// V = 64, τ = 1.0, β = 2.0.
+    Ultra,
+}
+
+impl QualityPreset {
+    /// Every preset, coarsest first.
+    pub const ALL: [Self; 4] = [Self::Low, Self::Medium, Self::High, Self::Ultra];
+
+    /// Cells per patch side V (Table 2); a patch mesh has (V + 1)² vertices (eq. 67).
+    pub fn vertices(self) -> u32 {
+        match self {
+            Self::Low => 16,
+            Self::Medium => 32,
+            Self::High | Self::Ultra => 64,
+        }
+    }
+
+    /// LOD distance scale τ of the subdivision test (eq. 57).
+    pub fn lod_scale(self) -> f32 {
+        match self {
+            Self::Low => 2.0,
+            Self::Medium => 1.5,
+            Self::High => 1.2,
+            Self::Ultra => 1.0,
+        }
+    }
+
+    /// Cull scale β that widens each patch's box (eq. 61).
+    pub fn cull_scale(self) -> f32 {
+        match self {
+            Self::Low => 1.2,
+            Self::Medium => 1.5,
+            Self::High => 1.8,
+            Self::Ultra => 2.0,
+        }
+    }
+
+    /// Lower-case name, as the CLI spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Low => "low",
+            Self::Medium => "medium",
+            Self::High => "high",
+            Self::Ultra => "ultra",
+        }
+    }
+}
+
+/// The side S of the square the quadtree covers, in metres, validated to [256, 8192].
+#[derive(Clone, Copy, Debug, PartialEq, PartialOrd)]
+pub struct OceanSize(f32);
+
+impl OceanSize {
+    /// Smallest accepted S (m).
+    pub const MIN: f32 = 256.0;
+    /// Largest accepted S (m).
+    pub const MAX: f32 = 8192.0;
+
+    /// Validates S: finite and in [[`Self::MIN`], [`Self::MAX`]] metres.
+    pub fn new(metres: f32) -> Result<Self, ParamError> {
+        if metres.is_finite() && (Self::MIN..=Self::MAX).contains(&metres) {
+            Ok(Self(metres))
+        } else {
+            Err(ParamError::new(
+                "size",
+                metres as f64,
+                "an ocean size in [256, 8192] (m)",
+            ))
+        }
+    }
+
+    /// S in metres.
+    pub fn metres(self) -> f32 {
+        self.0
+    }
+
+    /// L_max = clamp(⌊log2(S / 64) + 0.5⌋, 2, 8) (eq. 56).
+    pub fn max_level(self) -> u32 {
+        ((self.0 / 64.0).log2() + 0.5).floor().clamp(2.0, 8.0) as u32
+    }
+}
+
+/// Everything the LOD derives from a preset and a size; immutable after construction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LodSettings {
+    preset: QualityPreset,
+    size: f32,
+    max_level: u32,
+    boundary_level: u32,
+}
+
+impl LodSettings {
+    /// Derives L_max (eq. 56) and the boundary ring level (see [`Self::boundary_level`]).
+    pub fn new(preset: QualityPreset, size: OceanSize) -> Self {
+        let max_level = size.max_level();
+        let v = preset.vertices() as f32;
+        let tau = preset.lod_scale();
+        // Smallest level at which a node touching the outer edge fails eq. 57 for every
+        // camera inside the snap cell: its centre is at least S/2 − s/2 − δ away (δ = S/V).
+        let mut boundary_level = 2;
+        while ((1u32 << boundary_level) as f32) * (0.5 - 1.0 / v) < tau + 0.5 {
+            boundary_level += 1;
+        }
+        Self {
+            preset,
+            size: size.metres(),
+            max_level,
+            boundary_level: boundary_level.min(max_level),
+        }
+    }
+
+    /// The preset.
+    pub fn preset(&self) -> QualityPreset {
+        self.preset
+    }
+
+    /// S in metres.
+    pub fn size(&self) -> f32 {
+        self.size
+    }
+
+    /// V: cells per patch side.
+    pub fn vertices(&self) -> u32 {
+        self.preset.vertices()
+    }
+
+    /// L_max (eq. 56); the subdivision map is W = 2^L_max cells wide.
+    pub fn max_level(&self) -> u32 {
+        self.max_level
+    }
+
+    /// Width W = 2^L_max of the finest-level subdivision map.
+    pub fn map_width(&self) -> u32 {
+        1 << self.max_level
+    }
+
+    /// The level of every patch touching the outer edge of the grid (the "ring").
+    ///
+    /// The ring is forced to this one level so the horizon skirt, whose inner edge has the
+    /// vertex spacing of level `boundary_level − 1`, meets it without T-junctions: ring patches
+    /// stitch their outer edge toward the skirt as if it were a one-level-coarser neighbour. The
+    /// level is the smallest at which eq. 57 alone would not subdivide a ring node, so forcing
+    /// it never removes detail the distance test asked for.
+    pub fn boundary_level(&self) -> u32 {
+        self.boundary_level
+    }
+
+    /// Node size s_l = S / 2^l.
+    pub fn node_size(&self, level: u32) -> f32 {
+        self.size / (1u32 << level) as f32
+    }
+
+    /// Vertex spacing of a level-l patch, s_l / V.
+    pub fn vertex_spacing(&self, level: u32) -> f32 {
+        self.node_size(level) / self.vertices() as f32
+    }
+
+    /// Grid snap step δ = S / V (eq. 69 uses S / 2V).
+    ///
+    /// Twice the thesis's step: S / 2V keeps every level ≥ 1 on its world lattice; S / V also
+    /// keeps the parity of the level-1 lattice fixed, which the geomorph of vertices on edges
+    /// stitched toward level 1 needs (odd vertices slide onto even ones; see
+    /// [`crate::lod::morph`]).
+    pub fn snap_step(&self) -> f32 {
+        self.size / self.vertices() as f32
+    }
+
+    /// Geomorph distance range [start, end] (m) of level l: a level-l vertex's morph factor
+    /// rises from 0 at `start` to 1 at `end` ([`crate::lod::morph::morph_factor`]).
+    ///
+    /// A level-l patch exists while its parent's centre is nearer than s_(l−1)·τ = 2·s_l·τ
+    /// (eq. 57), so the morph completes there; level 0 never morphs (infinite range).
+    pub fn morph_range(&self, level: u32) -> [f32; 2] {
+        if level == 0 {
+            return [f32::MAX, f32::MAX];
+        }
+        let s = self.node_size(level) * self.preset.lod_scale();
+        [1.5 * s, 2.0 * s]
+    }
+
+    /// Distance from the grid centre to the outer edge of the horizon skirt (section 5.7: 10·S).
+    pub fn skirt_extent(&self) -> f32 {
+        10.0 * self.size
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn max_level_follows_eq_56() {
+        let l = |s: f32| OceanSize::new(s).unwrap().max_level();
+        assert_eq!(l(256.0), 2);
+        assert_eq!(l(512.0), 3);
+        assert_eq!(l(1000.0), 4);
+        assert_eq!(l(4096.0), 6);
+        assert_eq!(l(8192.0), 7);
+    }
+
+    #[test]
+    fn sizes_outside_range_are_rejected() {
+        for s in [0.0, 255.0, 8193.0, f32::NAN, f32::INFINITY, -300.0] {
+            let e = OceanSize::new(s).unwrap_err();
+            assert_eq!(e.parameter, "size");
+            assert!(e.valid.contains("[256, 8192]"));
+        }
+    }
+
+    #[test]
+    fn boundary_level_is_within_the_tree() {
+        for p in QualityPreset::ALL {
+            for s in [256.0, 300.0, 1024.0, 8192.0] {
+                let st = LodSettings::new(p, OceanSize::new(s).unwrap());
+                assert!((2..=st.max_level()).contains(&st.boundary_level()));
+            }
+        }
+    }
+}
