@@ -158,6 +158,21 @@ impl OceanConfig {
     }
 }
 
+impl OceanConfig {
+    /// Pairs of cascades whose patch ratio is within 2% of an integer: their tilings line up
+    /// every few repeats, which the non-integer ratios are there to avoid (valid, but worth a
+    /// warning).
+    pub fn aligned_cascades(&self) -> impl Iterator<Item = (usize, f32)> + '_ {
+        self.patch_sizes
+            .windows(2)
+            .enumerate()
+            .filter_map(|(i, w)| {
+                let ratio = w[0] / w[1];
+                ((ratio - ratio.round()).abs() < 0.02 * ratio).then_some((i, ratio))
+            })
+    }
+}
+
 impl WaveParams {
     /// Checks every field; see [`OceanConfig::validate`].
     pub fn validate(&self) -> Result<(), ParamError> {
@@ -275,8 +290,17 @@ mod tests {
 
     #[test]
     fn defaults_are_valid() {
-        OceanConfig::default_cascades(256).unwrap();
+        let c = OceanConfig::default_cascades(256).unwrap();
+        assert_eq!(c.aligned_cascades().count(), 0);
         OceanConfig::single(16, 10.0).unwrap();
+    }
+
+    #[test]
+    fn integer_cascade_ratios_are_flagged() {
+        let mut c = OceanConfig::default_cascades(64).unwrap();
+        c.patch_sizes = vec![400.0, 100.0, 33.0];
+        let flagged: Vec<usize> = c.aligned_cascades().map(|(i, _)| i).collect();
+        assert_eq!(flagged, vec![0]);
     }
 
     #[test]

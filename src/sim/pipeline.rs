@@ -107,6 +107,13 @@ impl SimCore {
     /// Validates `config` and runs stage 1 for every cascade.
     pub fn new(config: OceanConfig) -> Result<Self, ParamError> {
         config.validate()?;
+        for (i, ratio) in config.aligned_cascades() {
+            log::warn!(
+                "cascades {i} and {} have a near-integer patch ratio {ratio:.3}: their tiling \
+                 repeats line up; prefer ratios like 3.7",
+                i + 1
+            );
+        }
         let grid = config.grid;
         let bands = cascade_bands(&config.patch_sizes, grid);
         let cascades = config
