@@ -298,7 +298,7 @@ mod tests {
     #[test]
     fn integer_cascade_ratios_are_flagged() {
         let mut c = OceanConfig::default_cascades(64).unwrap();
-        c.patch_sizes = vec![400.0, 100.0, 33.0];
+        c.patch_sizes = vec![400.0, 100.0, 35.0];
         let flagged: Vec<usize> = c.aligned_cascades().map(|(i, _)| i).collect();
         assert_eq!(flagged, vec![0]);
     }
