@@ -51,6 +51,23 @@ pub fn patch_vertex_xz(inst: &PatchInstance, v: u32, i: u32, j: u32, camera: Vec
     p
 }
 
+/// The morphed world xz of skirt vertex `pos` (relative to the grid centre) with the skirt's
+/// instance ([`crate::lod::OceanLod::skirt_instance`]): inner-edge vertices (`inner`) follow
+/// the ring patches' stitched outer edges (`coarse_morph` on the doubled ring spacing), outer
+/// corners stay put.
+pub fn skirt_vertex_xz(inst: &PatchInstance, pos: [f32; 3], inner: bool, camera: Vec3) -> Vec2 {
+    let p0 = Vec2::from(inst.centre) + Vec2::new(pos[0], pos[2]);
+    if !inner {
+        return p0;
+    }
+    let d = Vec3::new(p0.x, 0.0, p0.y).distance(camera);
+    p0 - morph_offset(
+        p0,
+        2.0 * inst.vertex_spacing,
+        morph_factor(inst.coarse_morph, d),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
