@@ -242,14 +242,19 @@ impl MaxDisplacement {
 }
 
 /// The culling box of a patch of size `s` centred at (cx, 0, cz) (eq. 61 with the real
-/// displacement): half-extents (s·β/2 + max|Dx|, max|h|, s·β/2 + max|Dz|). The thesis's
-/// h_max/2 vertical extent assumes a box spanning h_max; the surface moves ±max|h|.
+/// displacement): half-extents (s/2 + β·max|Dx|, β·max|h|, s/2 + β·max|Dz|).
+///
+/// Eq. 61 widens the patch itself by β (s·β/2) because its h_max = 0.03·S is a guess. Here the
+/// padding is the simulation's measured maximum displacement, so the patch is not widened and β
+/// is the safety margin on that maximum instead (it covers a sea state that grows between the
+/// measured step and the drawn frame). The thesis's h_max/2 vertical extent is replaced by the
+/// ±max|h| the surface actually spans.
 pub fn patch_box(centre_xz: [f32; 2], size: f32, beta: f32, pad: MaxDisplacement) -> (Vec3, Vec3) {
     let [dx, h, dz] = pad.get();
-    let half = size * beta * 0.5;
+    let half = size * 0.5;
     (
         Vec3::new(centre_xz[0], 0.0, centre_xz[1]),
-        Vec3::new(half + dx, h, half + dz),
+        Vec3::new(half + beta * dx, beta * h, half + beta * dz),
     )
 }
 

@@ -39,7 +39,8 @@ impl QualityPreset {
         }
     }
 
-    /// Cull scale β that widens each patch's box (eq. 61).
+    /// Cull scale β (eq. 61): here the safety factor on the displacement padding of each
+    /// patch's culling box (see [`crate::lod::frustum::patch_box`]).
     pub fn cull_scale(self) -> f32 {
         match self {
             Self::Low => 1.2,
