@@ -76,7 +76,7 @@ fn culling_never_drops_a_visible_patch() {
                 let h = [0.5, 1.7, 1.7, 10.0, 200.0][n % 5];
                 let pos = Vec3::new((rnd() - 0.5) * 500.0, h, (rnd() - 0.5) * 500.0);
                 let pitch = (rnd() - 0.6) * 2.5;
-                let eyes = quest_eyes(pos, rnd() * 6.283, pitch);
+                let eyes = quest_eyes(pos, rnd() * std::f32::consts::TAU, pitch);
                 lod.update(&FrameInput {
                     viewer: eyes.centre(),
                     culling: Some(&eyes),
