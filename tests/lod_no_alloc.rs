@@ -62,7 +62,7 @@ fn frames_do_not_allocate() {
                     EyeView::looking(pos + Vec3::X * 0.03, t, -0.2, fov),
                 )
                 .unwrap();
-                let culling = (n % 5 != 0).then_some(&eyes);
+                let culling = (!n.is_multiple_of(5)).then_some(&eyes);
                 let s = lod
                     .update(&FrameInput {
                         viewer: eyes.centre(),
