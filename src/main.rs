@@ -1,4 +1,4 @@
-//! The `vr-ocean` command line: simulate, export and bench (the VR and window modes arrive with
+//! The `vr-ocean` command line: simulate, export, bench and lod-svg (the VR and window modes arrive with
 //! the renderer).
 
 use std::path::PathBuf;
@@ -33,6 +33,46 @@ enum Command {
     Export(ExportArgs),
     /// Time every pipeline stage next to rustfft and (with --features fftw) FFTW.
     Bench(BenchArgs),
+    /// Draw one frame of the quadtree LOD (patches by level, stitched edges, both eye frusta) as SVG.
+    LodSvg(LodSvgArgs),
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum PresetArg {
+    Low,
+    Medium,
+    High,
+    Ultra,
+}
+
+#[derive(Args)]
+struct LodSvgArgs {
+    /// Head position x,y,z (m; y is the height above the water).
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        value_delimiter = ',',
+        required = true
+    )]
+    camera: Vec<f32>,
+    /// Heading (degrees; 0 looks along -z, positive turns left toward -x).
+    #[arg(long, allow_negative_numbers = true, required = true)]
+    yaw: f32,
+    /// Pitch (degrees; negative looks down).
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.0)]
+    pitch: f32,
+    /// Quality preset (thesis Table 2).
+    #[arg(long, value_enum, default_value_t = PresetArg::Ultra)]
+    preset: PresetArg,
+    /// Ocean size S (m), 256 to 8192.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 8192.0)]
+    size: f32,
+    /// Maximum displacement max|Dx|,max|h|,max|Dz| (m) padding the culling boxes.
+    #[arg(long, allow_negative_numbers = true, value_delimiter = ',', default_values_t = [1.0, 1.5, 1.0])]
+    max_displacement: Vec<f32>,
+    /// Output SVG file.
+    #[arg(long)]
+    out: PathBuf,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -207,6 +247,7 @@ fn main() -> ExitCode {
         Some(Command::Simulate(a)) => simulate(a),
         Some(Command::Export(a)) => export_cmd(a),
         Some(Command::Bench(a)) => bench_cmd(a),
+        Some(Command::LodSvg(a)) => lod_svg_cmd(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -350,6 +391,82 @@ fn bench_cmd(a: BenchArgs) -> CmdResult {
     );
     let rows = bench::run(&opts)?;
     print!("{}", bench::format_table(&rows));
+    Ok(())
+}
+
+fn lod_svg_cmd(a: LodSvgArgs) -> CmdResult {
+    use vr_ocean::lod::{
+        svg, EyeView, Fov, FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize,
+        QualityPreset, StereoFrustum,
+    };
+    let &[x, y, z] = a.camera.as_slice() else {
+        return Err(ParamError::new(
+            "camera",
+            a.camera.len() as f64,
+            "three comma-separated coordinates x,y,z (m)",
+        )
+        .into());
+    };
+    if !a.yaw.is_finite() {
+        return Err(ParamError::new("yaw", a.yaw as f64, "a finite angle (degrees)").into());
+    }
+    if !(a.pitch.is_finite() && a.pitch.abs() <= 89.0) {
+        return Err(
+            ParamError::new("pitch", a.pitch as f64, "an angle in [-89, 89] (degrees)").into(),
+        );
+    }
+    let &[dx, h, dz] = a.max_displacement.as_slice() else {
+        return Err(ParamError::new(
+            "max-displacement",
+            a.max_displacement.len() as f64,
+            "three comma-separated values dx,h,dz (m)",
+        )
+        .into());
+    };
+    let pad = MaxDisplacement::new([dx, h, dz])?;
+    let preset = match a.preset {
+        PresetArg::Low => QualityPreset::Low,
+        PresetArg::Medium => QualityPreset::Medium,
+        PresetArg::High => QualityPreset::High,
+        PresetArg::Ultra => QualityPreset::Ultra,
+    };
+    let settings = LodSettings::new(preset, OceanSize::new(a.size)?);
+    // A Quest-like headset: 64 mm between the eyes, asymmetric per-eye FOVs.
+    let fov_left = Fov {
+        angle_left: -0.942,
+        angle_right: 0.698,
+        angle_up: 0.768,
+        angle_down: -0.873,
+    };
+    let fov_right = Fov {
+        angle_left: -0.698,
+        angle_right: 0.942,
+        ..fov_left
+    };
+    let (yaw, pitch) = (a.yaw.to_radians(), a.pitch.to_radians());
+    let head = glam::Vec3::new(x, y, z);
+    let right = glam::Vec3::new(yaw.cos(), 0.0, -yaw.sin()) * 0.032;
+    let eyes = StereoFrustum::new(
+        EyeView::looking(head - right, yaw, pitch, fov_left),
+        EyeView::looking(head + right, yaw, pitch, fov_right),
+    )?;
+    let mut lod = OceanLod::new(settings);
+    let stats = lod.update(&FrameInput {
+        viewer: eyes.centre(),
+        culling: Some(&eyes),
+        max_displacement: pad,
+    })?;
+    std::fs::write(&a.out, svg::render(&lod, &eyes))
+        .map_err(|e| format!("cannot write --out {}: {e}", a.out.display()))?;
+    println!(
+        "{}: {} patches, {} visible, {} draws + skirt, {} triangles -> {}",
+        preset.name(),
+        stats.patches,
+        stats.visible,
+        stats.draws,
+        stats.triangles,
+        a.out.display()
+    );
     Ok(())
 }
 

@@ -17,6 +17,7 @@ pub mod preset;
 pub mod quadtree;
 pub mod skirt;
 pub mod stitch;
+pub mod svg;
 
 use glam::{Vec2, Vec3};
 
