@@ -79,7 +79,7 @@ fn write_atomically(
 /// Writes one cascade's fields as `{stem}_{field}.npy` (shape [N, N] or [N, N, 3], row index =
 /// z texel, column = x texel) and one multi-channel `{stem}.exr` (channels height, dx, dz,
 /// jacobian, foam, normal.x/y/z). The surface must keep its level-0 normals
-/// ([`crate::sim::Surfaces::with_base_normals`]). Returns the files written.
+/// ([`crate::sim::Surfaces::with_float_copies`]). Returns the files written.
 pub fn write_cascade(
     s: &CascadeSurface,
     dir: &Path,

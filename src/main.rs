@@ -290,15 +290,15 @@ fn simulate(a: SimulateArgs) -> CmdResult {
         if t - last_report >= 1.0 || i == steps {
             last_report = t;
             let c0 = &s.cascades[0];
-            let n = c0.displacement.len() as f64;
+            let texels = c0.displacement_f16.len();
+            let n = texels as f64;
             let var = c0
-                .displacement
+                .displacement_f16
                 .iter()
-                .map(|d| (d[1] as f64).powi(2))
+                .map(|d| (d[1].to_f64()).powi(2))
                 .sum::<f64>()
                 / n;
-            // Foam coverage from the RGBA8 level 0 (B channel).
-            let foam = c0.normal_foam[..c0.displacement.len()]
+            let foam = c0.normal_foam[..texels]
                 .iter()
                 .map(|p| ((p >> 16) & 0xff) as f64 / 255.0)
                 .sum::<f64>()
@@ -334,7 +334,7 @@ fn export_cmd(a: ExportArgs) -> CmdResult {
         .build()
         .map_err(|e| SimError::Threads(e.to_string()))?;
     let mut core = pool.install(|| SimCore::new(cfg.clone()))?;
-    let mut s = Surfaces::with_base_normals(&cfg);
+    let mut s = Surfaces::with_float_copies(&cfg);
     let mut written = 0;
     for &t in &a.time {
         pool.install(|| core.step(t, &mut s));

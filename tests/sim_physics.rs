@@ -3,7 +3,7 @@
 use vr_ocean::sim::evolve::{self, LoopPhase};
 use vr_ocean::sim::fft::Fft2d;
 use vr_ocean::sim::spectrum::{self, cascade_bands, CascadeSpec, PackedSpectrum};
-use vr_ocean::sim::surface::{self, BaseNormals, CascadeSurface, SurfaceParams};
+use vr_ocean::sim::surface::{self, CascadeSurface, FloatCopies, SurfaceParams};
 use vr_ocean::sim::{
     dispersion, AlignedBuf, FoamParams, GridSize, OceanConfig, SimCore, SpectrumKind, SplitField,
     Surfaces,
@@ -19,7 +19,7 @@ fn spec_of(cfg: &OceanConfig, i: usize) -> CascadeSpec {
 }
 
 fn step(core: &mut SimCore, cfg: &OceanConfig, t: f64) -> Surfaces {
-    let mut out = Surfaces::with_base_normals(cfg);
+    let mut out = Surfaces::with_float_copies(cfg);
     core.step(t, &mut out);
     out
 }
@@ -105,7 +105,7 @@ fn heights(spec: &PackedSpectrum, patch: f32, t: f64, period: f32) -> Vec<f32> {
     let mut scratch: [SplitField; 4] = std::array::from_fn(|_| SplitField::zeros(grid));
     evolve::evolve(spec, patch, LoopPhase::new(t, period), &mut fields);
     fft.inverse_batch(&mut fields, &mut scratch);
-    let mut out = CascadeSurface::new(grid, patch, BaseNormals::Keep);
+    let mut out = CascadeSurface::new(grid, patch, FloatCopies::Keep);
     let mut foam = AlignedBuf::zeros(grid.texels());
     let p = SurfaceParams {
         choppiness: 0.0,
@@ -253,7 +253,7 @@ fn results_are_identical_for_any_thread_count() {
             .unwrap();
         pool.install(|| {
             let mut core = SimCore::new(cfg.clone()).unwrap();
-            let mut out = Surfaces::new(&cfg);
+            let mut out = Surfaces::with_float_copies(&cfg);
             for i in 0..3 {
                 core.step(1.0 + i as f64 / 72.0, &mut out);
             }
@@ -368,7 +368,7 @@ fn extreme_valid_parameters_stay_finite() {
     for (what, cfg) in cases {
         cfg.validate().unwrap();
         let mut core = SimCore::new(cfg.clone()).unwrap();
-        let mut out = Surfaces::new(&cfg);
+        let mut out = Surfaces::with_float_copies(&cfg);
         core.step(0.0, &mut out);
         core.step(1234.5, &mut out);
         assert_finite(&out, &what);
@@ -411,6 +411,29 @@ fn height_queries_invert_the_choppy_displacement() {
 }
 
 #[test]
+fn height_queries_on_the_gpu_copy_are_within_a_centimetre() {
+    // Without f32 copies (the renderer's configuration) queries read the RGBA16F displacement.
+    let mut cfg = OceanConfig::single(128, 80.0).unwrap();
+    cfg.waves.choppiness = 1.0;
+    cfg.waves.wind_speed = 8.0;
+    let mut core_full = SimCore::new(cfg.clone()).unwrap();
+    let mut core_gpu = SimCore::new(cfg.clone()).unwrap();
+    let mut full = Surfaces::with_float_copies(&cfg);
+    let mut gpu = Surfaces::new(&cfg);
+    core_full.step(42.0, &mut full);
+    core_gpu.step(42.0, &mut gpu);
+    assert!(gpu.cascades[0].displacement.is_empty());
+    let mut worst = 0.0f32;
+    for i in 0..2000 {
+        let (x, z) = (i as f32 * 0.173 - 60.0, i as f32 * -0.0911 + 13.0);
+        let (a, b) = (full.height_at(x, z), gpu.height_at(x, z));
+        worst = worst.max((a - b).abs());
+    }
+    assert!(worst < 0.01, "f16 queries differ by up to {worst} m");
+    assert_eq!(full.max_displacement(), gpu.max_displacement());
+}
+
+#[test]
 fn multi_cascade_height_queries_land_on_the_surface() {
     let cfg = OceanConfig::default_cascades(64).unwrap();
     let mut core = SimCore::new(cfg.clone()).unwrap();
@@ -439,7 +462,7 @@ fn foam_accumulates_where_waves_break_and_decays() {
         decay: 0.5,
     };
     let mut core = SimCore::new(cfg.clone()).unwrap();
-    let mut out = Surfaces::with_base_normals(&cfg);
+    let mut out = Surfaces::with_float_copies(&cfg);
     let mut t = 0.0;
     let mut coverage = Vec::new();
     for _ in 0..60 {
@@ -485,7 +508,7 @@ fn foam_accumulates_where_waves_break_and_decays() {
 fn keeping_base_normals_changes_nothing_else() {
     let cfg = OceanConfig::default_cascades(64).unwrap();
     let mut a = Surfaces::new(&cfg);
-    let mut b = Surfaces::with_base_normals(&cfg);
+    let mut b = Surfaces::with_float_copies(&cfg);
     let mut core_a = SimCore::new(cfg.clone()).unwrap();
     let mut core_b = SimCore::new(cfg.clone()).unwrap();
     core_a.step(3.0, &mut a);

@@ -11,7 +11,7 @@ use crate::sim::grid::{AlignedBuf, SplitField};
 use crate::sim::params::{OceanConfig, WaveParams};
 use crate::sim::query;
 use crate::sim::spectrum::{cascade_bands, CascadeSpec, PackedSpectrum};
-use crate::sim::surface::{self, BaseNormals, CascadeSurface, SurfaceParams};
+use crate::sim::surface::{self, FloatCopies, CascadeSurface, SurfaceParams};
 
 /// One step's output for every cascade, coarsest first.
 pub struct Surfaces {
@@ -23,15 +23,15 @@ impl Surfaces {
     /// Zeroed surfaces shaped for `config`, with level-0 normals only as RGBA8 (what a
     /// renderer needs).
     pub fn new(config: &OceanConfig) -> Self {
-        Self::with_base(config, BaseNormals::Skip)
+        Self::with_base(config, FloatCopies::Skip)
     }
 
     /// Zeroed surfaces that also keep full-precision level-0 normals and foam (export, checks).
-    pub fn with_base_normals(config: &OceanConfig) -> Self {
-        Self::with_base(config, BaseNormals::Keep)
+    pub fn with_float_copies(config: &OceanConfig) -> Self {
+        Self::with_base(config, FloatCopies::Keep)
     }
 
-    fn with_base(config: &OceanConfig, base: BaseNormals) -> Self {
+    fn with_base(config: &OceanConfig, base: FloatCopies) -> Self {
         Self {
             cascades: config
                 .patch_sizes

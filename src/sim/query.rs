@@ -4,6 +4,8 @@
 //! world point q is h(p*) where p* solves p* + D_xz(p*) = q. The fixed-point iteration
 //! p ← q − D_xz(p) converges wherever the surface is not folded (|∂D/∂x| < 1).
 
+use half::f16;
+
 use crate::sim::surface::CascadeSurface;
 
 /// Fixed-point iterations stop when the horizontal residual is below this (m).
@@ -23,8 +25,15 @@ fn sample(c: &CascadeSurface, x: f32, z: f32) -> [f32; 3] {
     let mask = n as i64 - 1;
     let (c0, r0) = (fu as i64 & mask, fv as i64 & mask);
     let (c1, r1) = ((c0 + 1) & mask, (r0 + 1) & mask);
-    let d = &c.displacement;
-    let t = |col: i64, row: i64| d[row as usize * n + col as usize];
+    // Full precision when the surface keeps it, else the RGBA16F copy (≈ 1 mm steps for
+    // waves of a few metres).
+    let t = |col: i64, row: i64| -> [f32; 4] {
+        let i = row as usize * n + col as usize;
+        match c.displacement.get(i) {
+            Some(&d) => d,
+            None => c.displacement_f16[i].map(f16::to_f32),
+        }
+    };
     let (a, b, e, f) = (t(c0, r0), t(c1, r0), t(c0, r1), t(c1, r1));
     let mut out = [0.0; 3];
     for k in 0..3 {

@@ -18,16 +18,17 @@ pub struct CascadeSurface {
     /// Patch size L (m): texel (c, r) sits at world (c, r)·L/N, repeating every L.
     pub patch: f32,
     /// (Dx, h, Dz, J) per texel in metres (J dimensionless), row-major: the displaced surface
-    /// point of texel x is x + (Dx, h, Dz).
+    /// point of texel x is x + (Dx, h, Dz). Full precision with [`FloatCopies::Keep`]; empty
+    /// with [`FloatCopies::Skip`], where `displacement_f16` is the only copy.
     pub displacement: Vec<[f32; 4]>,
-    /// The same as RGBA16F for the vertex shader.
+    /// The same as RGBA16F for the vertex shader (always present).
     pub displacement_f16: Vec<[f16; 4]>,
     /// RGBA8 normal/foam/smoothness chain (eq. 50-51), mip m at [`pack::mip_offset`].
     pub normal_foam: Vec<u32>,
     /// Float chain behind `normal_foam`: unnormalized, roughness-scaled normal xyz and foam,
-    /// from level 1 (or level 0 with [`BaseNormals::Keep`]); see [`CascadeSurface::floats_offset`].
+    /// from level 1 (or level 0 with [`FloatCopies::Keep`]); see [`CascadeSurface::floats_offset`].
     normal_floats: Vec<[f32; 4]>,
-    base: BaseNormals,
+    base: FloatCopies,
     /// Largest |Dx|, |h|, |Dz| over the patch (m): pads LOD bounding boxes.
     pub max_displacement: [f32; 3],
     /// Simulation time (s) these fields show.
@@ -35,29 +36,34 @@ pub struct CascadeSurface {
     row_max: Vec<[f32; 3]>,
 }
 
-/// Whether a surface keeps full-precision level-0 normals and foam. The renderer needs only the
-/// RGBA8 chain; keeping the floats costs a 16-byte-per-texel stream every step (4 MiB at
-/// N = 512), so only export and checks ask for it.
+/// Whether a surface keeps full-precision f32 copies of its level-0 fields: the displacement
+/// and the normals and foam. The renderer needs only RGBA16F and RGBA8; each f32 copy costs a
+/// 16-byte-per-texel stream every step (2 × 4 MiB at N = 512), so only export and checks keep
+/// them. Height queries use the f32 displacement when kept, else the RGBA16F one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum BaseNormals {
-    /// Store level-0 float normals and foam ([`CascadeSurface::base_normals`]).
+pub enum FloatCopies {
+    /// Also store `displacement` and level-0 float normals and foam
+    /// ([`CascadeSurface::base_normals`]).
     Keep,
-    /// Level 0 exists only as RGBA8.
+    /// Level 0 exists only in the GPU formats.
     Skip,
 }
 
 impl CascadeSurface {
     /// Zeroed surface for one cascade.
-    pub fn new(grid: GridSize, patch: f32, base: BaseNormals) -> Self {
+    pub fn new(grid: GridSize, patch: f32, base: FloatCopies) -> Self {
         let chain = pack::mip_chain_len(grid);
         let floats = match base {
-            BaseNormals::Keep => chain,
-            BaseNormals::Skip => chain - grid.texels(),
+            FloatCopies::Keep => chain,
+            FloatCopies::Skip => chain - grid.texels(),
         };
         Self {
             grid,
             patch,
-            displacement: vec![[0.0; 4]; grid.texels()],
+            displacement: match base {
+                FloatCopies::Keep => vec![[0.0; 4]; grid.texels()],
+                FloatCopies::Skip => Vec::new(),
+            },
             displacement_f16: vec![[f16::ZERO; 4]; grid.texels()],
             normal_foam: vec![0; chain],
             normal_floats: vec![[0.0; 4]; floats],
@@ -68,17 +74,17 @@ impl CascadeSurface {
         }
     }
 
-    /// Offset of mip `level` in the float chain (levels below 1 absent with [`BaseNormals::Skip`]).
+    /// Offset of mip `level` in the float chain (levels below 1 absent with [`FloatCopies::Skip`]).
     fn floats_offset(&self, level: u32) -> usize {
         match self.base {
-            BaseNormals::Keep => pack::mip_offset(self.grid, level),
-            BaseNormals::Skip => pack::mip_offset(self.grid, level) - self.grid.texels(),
+            FloatCopies::Keep => pack::mip_offset(self.grid, level),
+            FloatCopies::Skip => pack::mip_offset(self.grid, level) - self.grid.texels(),
         }
     }
 
     /// Level-0 roughness-scaled normals (xyz) and foam (w), row-major, when kept.
     pub fn base_normals(&self) -> Option<&[[f32; 4]]> {
-        (self.base == BaseNormals::Keep).then(|| &self.normal_floats[..self.grid.texels()])
+        (self.base == FloatCopies::Keep).then(|| &self.normal_floats[..self.grid.texels()])
     }
 
     /// Unnormalized float mip `level` ≥ 1 (normal xyz, foam w), as averaged (eq. 52).
@@ -228,79 +234,77 @@ pub fn finalize(
         smooth: pack::smoothness(len),
     };
     // Rows go in pairs so mip level 1 is averaged while both source rows are still in cache.
-    // Level-0 floats live in a per-pair stack buffer, copied out only when the surface keeps
-    // them.
+    // Level-0 floats and f32 displacement live in a per-pair stack buffer, copied out only when
+    // the surface keeps float copies.
     let side1 = n / 2;
     let l1 = out.floats_offset(1);
     let (level0_floats, level1_floats) = out.normal_floats.split_at_mut(l1);
     let level1_floats = &mut level1_floats[..side1 * side1];
     let (level0_rgba, rest) = out.normal_foam.split_at_mut(n * n);
     let level1_rgba = &mut rest[..side1 * side1];
-    let process_pair =
-        |pair: usize, p: Pair<'_>, kept: Option<&mut [[f32; 4]]>, floats: &mut [[f32; 4]]| {
-            let rows = p
-                .disp
-                .chunks_mut(n)
-                .zip(p.disp16.chunks_mut(n))
-                .zip(floats.chunks_mut(n))
-                .zip(p.rgba.chunks_mut(n))
-                .zip(p.foam.chunks_mut(n))
-                .zip(p.row_max.iter_mut());
-            for (i, (((((disp, disp16), floats), rgba), foam), rmax)) in rows.enumerate() {
-                let row = 2 * pair + i;
-                let b = row * n;
-                let r = |f, im| plane_row(f, im, b, n);
-                let surface = SurfaceRow {
-                    fields: [
-                        r(&fields[0], false),
-                        r(&fields[0], true),
-                        r(&fields[1], false),
-                        r(&fields[1], true),
-                        r(&fields[2], false),
-                        r(&fields[2], true),
-                        r(&fields[3], false),
-                        r(&fields[3], true),
-                    ],
-                    disp: &mut *disp,
-                    floats,
-                    rgba,
-                    foam,
-                    row_sign: if row & 1 == 0 { 1.0 } else { -1.0 },
-                    k,
-                };
-                surface_row(surface, rmax);
-                // The row is still in L1: convert it to RGBA16F here, not in another pass.
-                half::slice::HalfFloatSliceExt::convert_from_f32_slice(
-                    bytemuck::cast_slice_mut::<[f16; 4], f16>(disp16),
-                    bytemuck::cast_slice::<[f32; 4], f32>(disp),
-                );
-            }
-            let (src0, src1) = floats.split_at(n);
-            mip_row(MipRow {
-                src0,
-                src1,
-                dst: p.floats1,
-                rgba: p.rgba1,
-            });
-            if let Some(kept) = kept {
-                kept.copy_from_slice(floats);
-            }
-        };
-    let pair = |pair: usize, p: Pair<'_>, kept: Option<&mut [[f32; 4]]>| {
-        with_pair_buffer(n, |floats| process_pair(pair, p, kept, floats))
+    let process_pair = |pair: usize, p: Pair<'_>, kept: Option<Kept<'_>>, buf: &mut [[f32; 4]]| {
+        let (floats, disp) = buf.split_at_mut(2 * n);
+        let rows = disp
+            .chunks_mut(n)
+            .zip(p.disp16.chunks_mut(n))
+            .zip(floats.chunks_mut(n))
+            .zip(p.rgba.chunks_mut(n))
+            .zip(p.foam.chunks_mut(n))
+            .zip(p.row_max.iter_mut());
+        for (i, (((((disp, disp16), floats), rgba), foam), rmax)) in rows.enumerate() {
+            let row = 2 * pair + i;
+            let b = row * n;
+            let r = |f, im| plane_row(f, im, b, n);
+            let surface = SurfaceRow {
+                fields: [
+                    r(&fields[0], false),
+                    r(&fields[0], true),
+                    r(&fields[1], false),
+                    r(&fields[1], true),
+                    r(&fields[2], false),
+                    r(&fields[2], true),
+                    r(&fields[3], false),
+                    r(&fields[3], true),
+                ],
+                disp: &mut *disp,
+                floats,
+                rgba,
+                foam,
+                row_sign: if row & 1 == 0 { 1.0 } else { -1.0 },
+                k,
+            };
+            surface_row(surface, rmax);
+            // The row is still in L1: convert it to RGBA16F here, not in another pass.
+            half::slice::HalfFloatSliceExt::convert_from_f32_slice(
+                bytemuck::cast_slice_mut::<[f16; 4], f16>(disp16),
+                bytemuck::cast_slice::<[f32; 4], f32>(disp),
+            );
+        }
+        let (src0, src1) = floats.split_at(n);
+        mip_row(MipRow {
+            src0,
+            src1,
+            dst: p.floats1,
+            rgba: p.rgba1,
+        });
+        if let Some(kept) = kept {
+            kept.floats.copy_from_slice(floats);
+            kept.disp.copy_from_slice(disp);
+        }
+    };
+    let pair = |pair: usize, p: Pair<'_>, kept: Option<Kept<'_>>| {
+        with_pair_buffer(n, |buf| process_pair(pair, p, kept, buf))
     };
     let pairs = out
-        .displacement
+        .displacement_f16
         .par_chunks_mut(2 * n)
-        .zip(out.displacement_f16.par_chunks_mut(2 * n))
         .zip(level0_rgba.par_chunks_mut(2 * n))
         .zip(foam.par_chunks_mut(2 * n))
         .zip(out.row_max.par_chunks_mut(2))
         .zip(level1_floats.par_chunks_mut(side1))
         .zip(level1_rgba.par_chunks_mut(side1))
         .map(
-            |((((((disp, disp16), rgba), foam), row_max), floats1), rgba1)| Pair {
-                disp,
+            |(((((disp16, rgba), foam), row_max), floats1), rgba1)| Pair {
                 disp16,
                 rgba,
                 foam,
@@ -311,10 +315,11 @@ pub fn finalize(
         )
         .enumerate();
     match out.base {
-        BaseNormals::Keep => pairs
+        FloatCopies::Keep => pairs
             .zip(level0_floats.par_chunks_mut(2 * n))
-            .for_each(|((i, p), kept)| pair(i, p, Some(kept))),
-        BaseNormals::Skip => pairs.for_each(|(i, p)| pair(i, p, None)),
+            .zip(out.displacement.par_chunks_mut(2 * n))
+            .for_each(|(((i, p), floats), disp)| pair(i, p, Some(Kept { floats, disp }))),
+        FloatCopies::Skip => pairs.for_each(|(i, p)| pair(i, p, None)),
     }
     out.max_displacement = out.row_max.iter().fold([0.0f32; 3], |a, r| {
         [a[0].max(r[0]), a[1].max(r[1]), a[2].max(r[2])]
@@ -323,23 +328,28 @@ pub fn finalize(
     out.time = time;
 }
 
-/// Runs `f` on a zeroed stack buffer of exactly 2·`n` texels (one row pair's level-0 floats)
-/// for the common sizes, so no step zeroes more than its rows need.
+/// Runs `f` on a zeroed stack buffer of exactly 4·`n` texels (one row pair's level-0 floats
+/// and f32 displacement) for the common sizes, so no step zeroes more than its rows need.
 fn with_pair_buffer<R>(n: usize, f: impl FnOnce(&mut [[f32; 4]]) -> R) -> R {
     if n <= 64 {
-        f(&mut [[0.0; 4]; 128][..2 * n])
+        f(&mut [[0.0; 4]; 256][..4 * n])
     } else if n <= 256 {
-        f(&mut [[0.0; 4]; 512][..2 * n])
+        f(&mut [[0.0; 4]; 1024][..4 * n])
     } else if n <= 512 {
-        f(&mut [[0.0; 4]; 1024][..2 * n])
+        f(&mut [[0.0; 4]; 2048][..4 * n])
     } else {
-        f(&mut [[0.0; 4]; 2 * GridSize::MAX as usize][..2 * n])
+        f(&mut [[0.0; 4]; 4 * GridSize::MAX as usize][..4 * n])
     }
+}
+
+/// Where a pair's f32 copies go when the surface keeps them.
+struct Kept<'a> {
+    floats: &'a mut [[f32; 4]],
+    disp: &'a mut [[f32; 4]],
 }
 
 /// The outputs of one pair of rows in the surface stage.
 struct Pair<'a> {
-    disp: &'a mut [[f32; 4]],
     disp16: &'a mut [[f16; 4]],
     rgba: &'a mut [u32],
     foam: &'a mut [f32],
