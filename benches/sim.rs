@@ -7,7 +7,7 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use vr_ocean::sim::evolve::{self, LoopPhase};
 use vr_ocean::sim::fft::Fft2d;
 use vr_ocean::sim::spectrum::{cascade_bands, CascadeSpec, PackedSpectrum};
-use vr_ocean::sim::surface::{self, BaseNormals, CascadeSurface, SurfaceParams};
+use vr_ocean::sim::surface::{self, FloatCopies, CascadeSurface, SurfaceParams};
 use vr_ocean::sim::{AlignedBuf, OceanConfig, SimCore, SplitField, Surfaces};
 
 fn stages(c: &mut Criterion) {
@@ -29,7 +29,7 @@ fn stages(c: &mut Criterion) {
             let fft = Fft2d::new(grid);
             let mut fields: [SplitField; 4] = std::array::from_fn(|_| SplitField::zeros(grid));
             let mut scratch: [SplitField; 4] = std::array::from_fn(|_| SplitField::zeros(grid));
-            let mut out = CascadeSurface::new(grid, 250.0, BaseNormals::Skip);
+            let mut out = CascadeSurface::new(grid, 250.0, FloatCopies::Skip);
             let mut foam = AlignedBuf::zeros(grid.texels());
             let params = SurfaceParams {
                 choppiness: cfg.waves.choppiness,
