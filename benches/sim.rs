@@ -7,7 +7,7 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use vr_ocean::sim::evolve::{self, LoopPhase};
 use vr_ocean::sim::fft::Fft2d;
 use vr_ocean::sim::spectrum::{cascade_bands, CascadeSpec, PackedSpectrum};
-use vr_ocean::sim::surface::{self, FloatCopies, CascadeSurface, SurfaceParams};
+use vr_ocean::sim::surface::{self, CascadeSurface, FloatCopies, SurfaceParams};
 use vr_ocean::sim::{AlignedBuf, OceanConfig, SimCore, SplitField, Surfaces};
 
 fn stages(c: &mut Criterion) {
