@@ -11,7 +11,7 @@ use crate::sim::grid::{AlignedBuf, SplitField};
 use crate::sim::params::{OceanConfig, WaveParams};
 use crate::sim::query;
 use crate::sim::spectrum::{cascade_bands, CascadeSpec, PackedSpectrum};
-use crate::sim::surface::{self, FloatCopies, CascadeSurface, SurfaceParams};
+use crate::sim::surface::{self, CascadeSurface, FloatCopies, SurfaceParams};
 
 /// One step's output for every cascade, coarsest first.
 pub struct Surfaces {
