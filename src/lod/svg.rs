@@ -103,8 +103,9 @@ pub fn render(lod: &OceanLod, eyes: &StereoFrustum) -> String {
     let stats = lod.stats();
     let _ = writeln!(
         s,
-        r##"<text x="10" y="{:.0}">{} S={} m, L_max={}, ring level {}: {} patches, {} visible (grey: culled), {} draws + skirt, {} triangles. Colour: LOD level (blue coarse, red fine); red edges: stitched; green/magenta: left/right eye.</text>"##,
-        side + 35.0,
+        r##"<text x="10" y="{:.0}">{} S={} m, L_max={}, ring level {}: {} patches, {} visible (grey: culled), {} draws + skirt, {} triangles.</text>
+<text x="10" y="{:.0}">Colour: LOD level (blue coarse, red fine); red edges: stitched; green/magenta: left/right eye.</text>"##,
+        side + 25.0,
         st.preset().name(),
         size,
         st.max_level(),
@@ -112,7 +113,8 @@ pub fn render(lod: &OceanLod, eyes: &StereoFrustum) -> String {
         stats.patches,
         stats.visible,
         stats.draws,
-        stats.triangles
+        stats.triangles,
+        side + 47.0,
     );
     s.push_str("</svg>\n");
     s
