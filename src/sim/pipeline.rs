@@ -89,7 +89,6 @@ struct CascadeSim {
     spec: CascadeSpec,
     spectrum: PackedSpectrum,
     fields: [SplitField; 4],
-    scratch: [SplitField; 4],
     foam: AlignedBuf,
 }
 
@@ -99,12 +98,16 @@ pub struct SimCore {
     config: OceanConfig,
     fft: Fft2d,
     cascades: Vec<CascadeSim>,
+    /// FFT scratch shared by all cascades: one field per worker thread (at most 4), so a
+    /// single-thread step reuses one cache-resident scratch for its four transforms.
+    scratch: Vec<SplitField>,
     last_time: Option<f64>,
     timings: StageTimes,
 }
 
 impl SimCore {
-    /// Validates `config` and runs stage 1 for every cascade.
+    /// Validates `config` and runs stage 1 for every cascade. Sizes its FFT scratch for the
+    /// current Rayon pool, so create it inside the pool that will step it.
     pub fn new(config: OceanConfig) -> Result<Self, ParamError> {
         config.validate()?;
         for (i, ratio) in config.aligned_cascades() {
@@ -132,15 +135,18 @@ impl SimCore {
                     spectrum: PackedSpectrum::generate(&config.waves, &spec),
                     spec,
                     fields: std::array::from_fn(|_| SplitField::zeros(grid)),
-                    scratch: std::array::from_fn(|_| SplitField::zeros(grid)),
                     foam: AlignedBuf::zeros(grid.texels()),
                 }
             })
             .collect();
+        let scratch_fields = rayon::current_num_threads().clamp(1, 4);
         Ok(Self {
             fft: Fft2d::new(grid),
             config,
             cascades,
+            scratch: (0..scratch_fields)
+                .map(|_| SplitField::zeros(grid))
+                .collect(),
             last_time: None,
             timings: StageTimes::default(),
         })
@@ -203,7 +209,7 @@ impl SimCore {
             let t0 = Instant::now();
             evolve::evolve(&c.spectrum, c.spec.patch, phase, &mut c.fields);
             let t1 = Instant::now();
-            self.fft.inverse_batch(&mut c.fields, &mut c.scratch);
+            self.fft.inverse_batch(&mut c.fields, &mut self.scratch);
             let t2 = Instant::now();
             surface::finalize(&c.fields, &mut c.foam, params, t, surface);
             let t3 = Instant::now();

@@ -184,37 +184,50 @@ impl Fft2d {
         });
     }
 
-    /// [`Fft2d::inverse`] on every field, `fields[i]` using `scratch[i]`, in parallel over
-    /// (field, group of column strips) on the current rayon pool. Each strip is computed by the
-    /// same code whatever the thread count, so results are bit-identical to calling `inverse`
-    /// on each field. Allocates nothing beyond rayon's own task bookkeeping; each task uses a
-    /// stack working buffer like `inverse`.
+    /// [`Fft2d::inverse`] on every field, in parallel over (field, group of column strips) on the
+    /// current rayon pool. `scratch` holds 1 to `fields.len()` scratch fields: the fields are
+    /// transformed in groups of `scratch.len()`, group after group, so one scratch field per
+    /// thread suffices and stays in cache from one field to the next. Each strip is computed by
+    /// the same code whatever the thread count or grouping, so results are bit-identical to
+    /// calling `inverse` on each field. Allocates nothing beyond rayon's own task bookkeeping;
+    /// each task uses a stack working buffer like `inverse`.
     ///
     /// # Panics
-    /// If the slices differ in length or any field is not of this plan's size.
+    /// If `scratch` is empty or longer than `fields` (while `fields` is not empty), or any field
+    /// is not of this plan's size.
     pub fn inverse_batch(&self, fields: &mut [SplitField], scratch: &mut [SplitField]) {
-        assert_eq!(
+        if fields.is_empty() {
+            return;
+        }
+        assert!(
+            (1..=fields.len()).contains(&scratch.len()),
+            "inverse_batch needs 1 to {} scratch fields, got {}",
             fields.len(),
-            scratch.len(),
-            "inverse_batch needs one scratch field per field"
+            scratch.len()
         );
-        for (f, s) in fields.iter().zip(scratch.iter()) {
-            self.check(f, s);
+        for f in fields.iter() {
+            self.check(f, &scratch[0]);
+        }
+        for s in scratch.iter() {
+            self.check(&fields[0], s);
         }
         // Split each field's passes only as far as needed to give every thread about two
         // tasks: each task clears its own working buffer, so fewer, larger tasks are cheaper.
         // Every strip is computed identically whatever the split, so results don't depend on it.
         let strips = self.size.n() / STRIP;
         let threads = rayon::current_num_threads();
-        let tasks_per_pass = (2 * threads).div_ceil(fields.len().max(1)).min(strips);
+        let group = scratch.len();
+        let tasks_per_pass = (2 * threads).div_ceil(group).min(strips);
         let strips_per_task = strips.div_ceil(tasks_per_pass);
-        fields
-            .par_iter_mut()
-            .zip(scratch.par_iter_mut())
-            .for_each(|(f, s)| {
-                self.pass_par(f, s, true, strips_per_task);
-                self.pass_par(s, f, false, strips_per_task);
-            });
+        for fields in fields.chunks_mut(group) {
+            fields
+                .par_iter_mut()
+                .zip(scratch.par_iter_mut())
+                .for_each(|(f, s)| {
+                    self.pass_par(f, s, true, strips_per_task);
+                    self.pass_par(s, f, false, strips_per_task);
+                });
+        }
     }
 
     /// One pass `src` → `dst`, split into rayon tasks of `strips_per_task` strips.

@@ -193,14 +193,18 @@ fn batch_is_bit_identical_to_single_for_any_thread_count() {
                         .num_threads(threads)
                         .build()
                         .unwrap();
-                    let mut fields = inputs.clone();
-                    let mut scratch: Vec<SplitField> =
-                        (0..count).map(|_| SplitField::zeros(size)).collect();
-                    pool.install(|| fft.inverse_batch(&mut fields, &mut scratch));
-                    assert!(
-                    bits(&fields) == want,
-                    "{backend} N={size}: batch of {count} on {threads} threads differs from single"
-                );
+                    // One scratch per field, and fewer (fields transformed in groups).
+                    for scratches in (1..=count).rev() {
+                        let mut fields = inputs.clone();
+                        let mut scratch: Vec<SplitField> =
+                            (0..scratches).map(|_| SplitField::zeros(size)).collect();
+                        pool.install(|| fft.inverse_batch(&mut fields, &mut scratch));
+                        assert!(
+                            bits(&fields) == want,
+                            "{backend} N={size}: batch of {count} with {scratches} scratch on \
+                             {threads} threads differs from single"
+                        );
+                    }
                 }
             }
         }
