@@ -1,35 +1,16 @@
 //! The command line: bad input gives a clear error and a non-zero exit, never a panic; export
 //! writes files other tools can read.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
-fn vr_ocean(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_vr-ocean"))
-        .args(args)
-        .env("RUST_BACKTRACE", "0")
-        .output()
-        .expect("the binary runs")
-}
+use std::path::PathBuf;
+
+use common::{assert_rejected, vr_ocean};
 
 fn scratch_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("vr-ocean-test-{}-{name}", std::process::id()));
+    let d = common::scratch_path(name);
     let _ = std::fs::remove_dir_all(&d);
     d
-}
-
-fn assert_rejected(args: &[&str], names: &[&str]) {
-    let out = vr_ocean(args);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success(), "{args:?} must fail");
-    assert_ne!(out.status.code(), Some(101), "{args:?} panicked: {err}");
-    assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
-    for n in names {
-        assert!(
-            err.contains(n),
-            "{args:?}: error should mention {n:?}: {err}"
-        );
-    }
 }
 
 #[test]

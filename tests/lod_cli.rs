@@ -1,33 +1,14 @@
 //! `vr-ocean lod-svg`: writes a well-formed SVG with one rectangle per patch; bad input is a
 //! named error with a non-zero exit, never a panic.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
-fn vr_ocean(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_vr-ocean"))
-        .args(args)
-        .env("RUST_BACKTRACE", "0")
-        .output()
-        .expect("the binary runs")
-}
+use std::path::PathBuf;
+
+use common::{assert_rejected, vr_ocean};
 
 fn scratch(name: &str) -> PathBuf {
-    std::env::temp_dir().join(format!("vr-ocean-lod-{}-{name}", std::process::id()))
-}
-
-fn assert_rejected(args: &[&str], names: &[&str]) {
-    let out = vr_ocean(args);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success(), "{args:?} must fail");
-    assert_ne!(out.status.code(), Some(101), "{args:?} panicked: {err}");
-    assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
-    for n in names {
-        assert!(
-            err.contains(n),
-            "{args:?}: error should mention {n:?}: {err}"
-        );
-    }
+    common::scratch_path(&format!("lod-{name}"))
 }
 
 #[test]

@@ -2,8 +2,7 @@
 //! the viewer moving, turning and changing height (so the tree, ring level, visible set and
 //! batches all change) after one warm-up frame.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+mod common;
 
 use glam::Vec3;
 
@@ -12,35 +11,8 @@ use vr_ocean::lod::{
     StereoFrustum,
 };
 
-struct Counting;
-
-static COUNTING: AtomicBool = AtomicBool::new(false);
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-// SAFETY: forwards to the system allocator; only counts.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        if COUNTING.load(Ordering::Relaxed) {
-            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        }
-        // SAFETY: same contract as ours.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: same contract as ours.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        if COUNTING.load(Ordering::Relaxed) {
-            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        }
-        // SAFETY: same contract as ours.
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: common::Counting = common::Counting;
 
 #[test]
 fn frames_do_not_allocate() {
@@ -73,13 +45,11 @@ fn frames_do_not_allocate() {
                 s.triangles as usize + lod.instances().len()
             };
             let mut sum = frame(&mut lod, 0);
-            ALLOCATIONS.store(0, Ordering::SeqCst);
-            COUNTING.store(true, Ordering::SeqCst);
-            for n in 1..300 {
-                sum += frame(&mut lod, n);
-            }
-            COUNTING.store(false, Ordering::SeqCst);
-            let count = ALLOCATIONS.load(Ordering::SeqCst);
+            let ((), count) = common::count_allocations(|| {
+                for n in 1..300 {
+                    sum += frame(&mut lod, n);
+                }
+            });
             assert!(sum > 0);
             assert_eq!(
                 count, 0,
@@ -88,9 +58,7 @@ fn frames_do_not_allocate() {
         }
     }
     // The counter is live (guards against a vacuous pass).
-    COUNTING.store(true, Ordering::SeqCst);
-    let v = std::hint::black_box(vec![1u8; 10]);
-    COUNTING.store(false, Ordering::SeqCst);
+    let (v, count) = common::count_allocations(|| std::hint::black_box(vec![1u8; 10]));
     assert_eq!(v.len(), 10);
-    assert!(ALLOCATIONS.load(Ordering::SeqCst) >= 1);
+    assert!(count >= 1);
 }

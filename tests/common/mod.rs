@@ -1,0 +1,77 @@
+//! Helpers shared by the integration tests (each test crate includes this module and uses what
+//! it needs).
+#![allow(dead_code)]
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::path::PathBuf;
+use std::process::{Command, Output};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
+/// A global allocator that counts allocations while counting is on. A test crate installs it
+/// with `#[global_allocator] static GLOBAL: common::Counting = common::Counting;`.
+pub struct Counting;
+
+static COUNTING: AtomicBool = AtomicBool::new(false);
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+// SAFETY: forwards to the system allocator; only counts.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if COUNTING.load(Ordering::Relaxed) {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        }
+        // SAFETY: same contract as ours.
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: same contract as ours.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        if COUNTING.load(Ordering::Relaxed) {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        }
+        // SAFETY: same contract as ours.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+/// Runs `f` with counting on (on every thread) and returns its result and the number of heap
+/// allocations made meanwhile. Callers in one crate must not overlap (serialize them).
+pub fn count_allocations<R>(f: impl FnOnce() -> R) -> (R, usize) {
+    ALLOCATIONS.store(0, Ordering::SeqCst);
+    COUNTING.store(true, Ordering::SeqCst);
+    let r = f();
+    COUNTING.store(false, Ordering::SeqCst);
+    (r, ALLOCATIONS.load(Ordering::SeqCst))
+}
+
+/// Runs the `vr-ocean` binary with `args`.
+pub fn vr_ocean(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_vr-ocean"))
+        .args(args)
+        .env("RUST_BACKTRACE", "0")
+        .output()
+        .expect("the binary runs")
+}
+
+/// A per-process path under the temp dir (not created).
+pub fn scratch_path(name: &str) -> PathBuf {
+    std::env::temp_dir().join(format!("vr-ocean-test-{}-{name}", std::process::id()))
+}
+
+/// Asserts that `vr-ocean args` fails cleanly (non-zero, no panic) with an error mentioning
+/// every string in `names`.
+pub fn assert_rejected(args: &[&str], names: &[&str]) {
+    let out = vr_ocean(args);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{args:?} must fail");
+    assert_ne!(out.status.code(), Some(101), "{args:?} panicked: {err}");
+    assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+    for n in names {
+        assert!(
+            err.contains(n),
+            "{args:?}: error should mention {n:?}: {err}"
+        );
+    }
+}
