@@ -505,7 +505,7 @@ fn foam_accumulates_where_waves_break_and_decays() {
 }
 
 #[test]
-fn keeping_base_normals_changes_nothing_else() {
+fn keeping_float_copies_changes_nothing_else() {
     let cfg = OceanConfig::default_cascades(64).unwrap();
     let mut a = Surfaces::new(&cfg);
     let mut b = Surfaces::with_float_copies(&cfg);
