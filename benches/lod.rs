@@ -5,24 +5,13 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use glam::Vec3;
 
 use vr_ocean::lod::{
-    EyeView, Fov, FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset,
+    Fov, FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset,
     StereoFrustum,
 };
 
 fn frame(c: &mut Criterion) {
     let st = LodSettings::new(QualityPreset::Ultra, OceanSize::new(8192.0).unwrap());
     let pad = MaxDisplacement::new([1.0, 1.5, 1.0]).unwrap();
-    let fov_l = Fov {
-        angle_left: -0.942,
-        angle_right: 0.698,
-        angle_up: 0.768,
-        angle_down: -0.873,
-    };
-    let fov_r = Fov {
-        angle_left: -0.698,
-        angle_right: 0.942,
-        ..fov_l
-    };
     for (name, height, pitch) in [("standing_horizon", 1.7, 0.0), ("aerial_300m", 300.0, -0.6)] {
         let mut lod = OceanLod::new(st);
         let mut n = 0u32;
@@ -31,11 +20,8 @@ fn frame(c: &mut Criterion) {
                 n = n.wrapping_add(1);
                 let t = (n % 1000) as f32 * 0.01;
                 let pos = Vec3::new(t * 3.0, height, -t);
-                let eyes = StereoFrustum::new(
-                    EyeView::looking(pos - Vec3::X * 0.032, t * 0.3, pitch, fov_l),
-                    EyeView::looking(pos + Vec3::X * 0.032, t * 0.3, pitch, fov_r),
-                )
-                .unwrap();
+                let eyes =
+                    StereoFrustum::from_head(pos, t * 0.3, pitch, 0.064, Fov::QUEST_EYES).unwrap();
                 lod.update(&FrameInput {
                     viewer: eyes.centre(),
                     culling: Some(&eyes),

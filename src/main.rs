@@ -396,8 +396,8 @@ fn bench_cmd(a: BenchArgs) -> CmdResult {
 
 fn lod_svg_cmd(a: LodSvgArgs) -> CmdResult {
     use vr_ocean::lod::{
-        svg, EyeView, Fov, FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize,
-        QualityPreset, StereoFrustum,
+        svg, Fov, FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset,
+        StereoFrustum,
     };
     let &[x, y, z] = a.camera.as_slice() else {
         return Err(ParamError::new(
@@ -432,24 +432,9 @@ fn lod_svg_cmd(a: LodSvgArgs) -> CmdResult {
     };
     let settings = LodSettings::new(preset, OceanSize::new(a.size)?);
     // A Quest-like headset: 64 mm between the eyes, asymmetric per-eye FOVs.
-    let fov_left = Fov {
-        angle_left: -0.942,
-        angle_right: 0.698,
-        angle_up: 0.768,
-        angle_down: -0.873,
-    };
-    let fov_right = Fov {
-        angle_left: -0.698,
-        angle_right: 0.942,
-        ..fov_left
-    };
     let (yaw, pitch) = (a.yaw.to_radians(), a.pitch.to_radians());
-    let head = glam::Vec3::new(x, y, z);
-    let right = glam::Vec3::new(yaw.cos(), 0.0, -yaw.sin()) * 0.032;
-    let eyes = StereoFrustum::new(
-        EyeView::looking(head - right, yaw, pitch, fov_left),
-        EyeView::looking(head + right, yaw, pitch, fov_right),
-    )?;
+    let eyes =
+        StereoFrustum::from_head(glam::Vec3::new(x, y, z), yaw, pitch, 0.064, Fov::QUEST_EYES)?;
     let mut lod = OceanLod::new(settings);
     let stats = lod.update(&FrameInput {
         viewer: eyes.centre(),

@@ -10,23 +10,7 @@ use vr_ocean::lod::{
 };
 
 fn quest_eyes(pos: Vec3, yaw: f32, pitch: f32) -> StereoFrustum {
-    let fov_l = Fov {
-        angle_left: -0.942,
-        angle_right: 0.698,
-        angle_up: 0.768,
-        angle_down: -0.873,
-    };
-    let fov_r = Fov {
-        angle_left: -0.698,
-        angle_right: 0.942,
-        ..fov_l
-    };
-    let right = Vec3::new(yaw.cos(), 0.0, -yaw.sin()) * 0.032;
-    StereoFrustum::new(
-        EyeView::looking(pos - right, yaw, pitch, fov_l),
-        EyeView::looking(pos + right, yaw, pitch, fov_r),
-    )
-    .unwrap()
+    StereoFrustum::from_head(pos, yaw, pitch, 0.064, Fov::QUEST_EYES).unwrap()
 }
 
 /// Independent visibility oracle: a point is seen by an eye when, in that eye's view space

@@ -10,7 +10,7 @@ use glam::{Vec2, Vec3};
 
 use vr_ocean::lod::morph::{patch_vertex_xz, skirt_vertex_xz};
 use vr_ocean::lod::{
-    EyeView, Fov, FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset,
+    Fov, FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset,
     StereoFrustum, StitchFlags,
 };
 
@@ -151,23 +151,7 @@ impl Lcg {
 }
 
 fn quest_eyes(pos: Vec3, yaw: f32, pitch: f32) -> StereoFrustum {
-    let fov_l = Fov {
-        angle_left: -0.942,
-        angle_right: 0.698,
-        angle_up: 0.768,
-        angle_down: -0.873,
-    };
-    let fov_r = Fov {
-        angle_left: -0.698,
-        angle_right: 0.942,
-        ..fov_l
-    };
-    let right = Vec3::new(yaw.cos(), 0.0, -yaw.sin()) * 0.032;
-    StereoFrustum::new(
-        EyeView::looking(pos - right, yaw, pitch, fov_l),
-        EyeView::looking(pos + right, yaw, pitch, fov_r),
-    )
-    .unwrap()
+    StereoFrustum::from_head(pos, yaw, pitch, 0.064, Fov::QUEST_EYES).unwrap()
 }
 
 fn run(preset: QualityPreset, size: f32, cameras: usize, seed: u64) -> usize {

@@ -24,6 +24,24 @@ pub struct Fov {
 }
 
 impl Fov {
+    /// Quest-3-like per-eye fields of view, left eye then right, as OpenXR reports them
+    /// (asymmetric, the wider side outward). For views with no runtime behind them: `lod-svg`,
+    /// tests and benchmarks.
+    pub const QUEST_EYES: [Fov; 2] = [
+        Fov {
+            angle_left: -0.942,
+            angle_right: 0.698,
+            angle_up: 0.768,
+            angle_down: -0.873,
+        },
+        Fov {
+            angle_left: -0.698,
+            angle_right: 0.942,
+            angle_up: 0.768,
+            angle_down: -0.873,
+        },
+    ];
+
     /// A symmetric field of view of `horizontal` × `vertical` radians.
     pub fn symmetric(horizontal: f32, vertical: f32) -> Self {
         Self {
@@ -191,6 +209,22 @@ impl StereoFrustum {
             frusta: [Frustum::new(&left)?, Frustum::new(&right)?],
             eyes: [left, right],
         })
+    }
+
+    /// Both eyes of a head at `head` looking along `yaw`/`pitch` (rad, as
+    /// [`EyeView::looking`]), `ipd` metres apart, with per-eye `fovs` (left, right).
+    pub fn from_head(
+        head: Vec3,
+        yaw: f32,
+        pitch: f32,
+        ipd: f32,
+        fovs: [Fov; 2],
+    ) -> Result<Self, ParamError> {
+        let right = Vec3::new(yaw.cos(), 0.0, -yaw.sin()) * (ipd / 2.0);
+        Self::new(
+            EyeView::looking(head - right, yaw, pitch, fovs[0]),
+            EyeView::looking(head + right, yaw, pitch, fovs[1]),
+        )
     }
 
     /// The eyes, left then right.
