@@ -2,7 +2,10 @@
 //!
 //! Data flows one way: [`sim`] (CPU ocean fields) → [`lod`] (quadtree geometry) → render → xr. See `ARCHITECTURE.md`.
 
+pub mod app;
 pub mod bench;
 pub mod export;
 pub mod lod;
+pub mod render;
 pub mod sim;
+pub mod xr;

@@ -7,12 +7,18 @@ use std::time::Instant;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
+use glam::Vec3;
+use vr_ocean::app::{self, FrameTimes, RunOptions};
 use vr_ocean::bench::{self, BenchOptions};
 use vr_ocean::export;
+use vr_ocean::lod::{LodSettings, OceanSize, QualityPreset};
+use vr_ocean::render::{ContextOptions, RendererSettings, StereoMode, Validation};
 use vr_ocean::sim::{
     FoamParams, GridSize, OceanConfig, ParamError, SimCore, SimError, Simulation, SpectrumKind,
     Surfaces, WaveParams,
 };
+use vr_ocean::xr::mock::{CameraPath, EyeSize, HeadlessXr};
+use vr_ocean::xr::FrameLoop;
 
 #[derive(Parser)]
 #[command(
@@ -33,6 +39,8 @@ enum Command {
     Export(ExportArgs),
     /// Time every pipeline stage next to rustfft and (with --features fftw) FFTW.
     Bench(BenchArgs),
+    /// Render without a window along a camera path: both eyes as PNG and frame_times.json.
+    Headless(HeadlessArgs),
     /// Draw one frame of the quadtree LOD (patches by level, stitched edges, both eye frusta) as SVG.
     LodSvg(LodSvgArgs),
 }
@@ -216,6 +224,94 @@ struct ExportArgs {
     out: PathBuf,
 }
 
+/// Settings of the renderer and LOD shared by the headless and window modes.
+#[derive(Args, Clone)]
+struct ViewArgs {
+    #[command(flatten)]
+    ocean: OceanArgs,
+    /// Quality preset (thesis Table 2).
+    #[arg(long, value_enum, default_value_t = PresetArg::High)]
+    preset: PresetArg,
+    /// Ocean size S (m) the quadtree covers, 256 to 8192; the skirt reaches 10 S.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 2048.0)]
+    ocean_size: f32,
+    /// How both eyes are drawn.
+    #[arg(long, value_enum, default_value_t = StereoArg::Multiview)]
+    stereo: StereoArg,
+    /// Simulation worker threads.
+    #[arg(long, default_value_t = default_threads())]
+    threads: usize,
+    /// Load the Khronos validation layer (fails if it is not installed).
+    #[arg(long)]
+    validation: bool,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum StereoArg {
+    Multiview,
+    TwoPass,
+}
+
+impl ViewArgs {
+    fn run_options(&self, capture: Vec<u64>, warmup: u64) -> Result<RunOptions, ParamError> {
+        let ocean = self.ocean.config()?;
+        let size = OceanSize::new(self.ocean_size)?;
+        if self.threads == 0 {
+            return Err(ParamError::new("threads", 0.0, "at least 1 thread"));
+        }
+        Ok(RunOptions {
+            ocean,
+            threads: self.threads,
+            lod: LodSettings::new(preset(self.preset), size),
+            renderer: RendererSettings {
+                stereo: match self.stereo {
+                    StereoArg::Multiview => StereoMode::Multiview,
+                    StereoArg::TwoPass => StereoMode::TwoPass,
+                },
+                ..RendererSettings::default()
+            },
+            capture,
+            warmup,
+        })
+    }
+
+    fn context(&self) -> ContextOptions {
+        ContextOptions {
+            validation: if self.validation {
+                Validation::Required
+            } else {
+                Validation::Off
+            },
+            ..ContextOptions::default()
+        }
+    }
+}
+
+#[derive(Args)]
+struct HeadlessArgs {
+    #[command(flatten)]
+    view: ViewArgs,
+    /// Frames to render (on a fixed 72 Hz clock).
+    #[arg(long, default_value_t = 144)]
+    frames: u64,
+    /// Per-eye image size WIDTHxHEIGHT.
+    #[arg(long, default_value = "640x640")]
+    size: String,
+    /// Camera path file (format in `src/xr/mock/path.rs` and the README); default: standing
+    /// 1.7 m above the sea, looking slightly down at the horizon.
+    #[arg(long)]
+    path: Option<PathBuf>,
+    /// Frames to save as PNG (comma-separated); default: the last one.
+    #[arg(long, value_delimiter = ',')]
+    capture: Vec<u64>,
+    /// Frames at the start left out of frame_times.json.
+    #[arg(long, default_value_t = 10)]
+    warmup: u64,
+    /// Output directory for PNGs and frame_times.json (created if missing).
+    #[arg(long)]
+    out: PathBuf,
+}
+
 #[derive(Args)]
 struct BenchArgs {
     /// Grid sides to measure.
@@ -248,6 +344,7 @@ fn main() -> ExitCode {
         Some(Command::Export(a)) => export_cmd(a),
         Some(Command::Bench(a)) => bench_cmd(a),
         Some(Command::LodSvg(a)) => lod_svg_cmd(a),
+        Some(Command::Headless(a)) => headless_cmd(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -259,6 +356,81 @@ fn main() -> ExitCode {
 }
 
 type CmdResult = Result<(), Box<dyn std::error::Error>>;
+
+fn preset(p: PresetArg) -> QualityPreset {
+    match p {
+        PresetArg::Low => QualityPreset::Low,
+        PresetArg::Medium => QualityPreset::Medium,
+        PresetArg::High => QualityPreset::High,
+        PresetArg::Ultra => QualityPreset::Ultra,
+    }
+}
+
+fn headless_cmd(a: HeadlessArgs) -> CmdResult {
+    let size = EyeSize::parse(&a.size)?;
+    if a.frames == 0 {
+        return Err(ParamError::new("frames", 0.0, "at least 1 frame").into());
+    }
+    let path = match &a.path {
+        Some(p) => CameraPath::load(p)?,
+        None => CameraPath::still(Vec3::new(0.0, 1.7, 0.0), 0.0, -8.0),
+    };
+    let capture = if a.capture.is_empty() {
+        vec![a.frames - 1]
+    } else {
+        a.capture.clone()
+    };
+    if let Some(bad) = capture.iter().find(|&&f| f >= a.frames) {
+        return Err(ParamError::new("capture", *bad as f64, "frame numbers below --frames").into());
+    }
+    let opts = a.view.run_options(capture, a.warmup.min(a.frames - 1))?;
+    app::ensure_writable_dir(&a.out)?;
+    let mut xr = HeadlessXr::new(&a.view.context(), size, path, a.frames)?;
+    println!(
+        "rendering {} frames of {}x{} per eye ({}) on {}",
+        a.frames,
+        size.extent().width,
+        size.extent().height,
+        opts.renderer.stereo.name(),
+        xr.gpu().device_name
+    );
+    let out = a.out.clone();
+    let mut saved = Vec::new();
+    let report = app::run(&mut xr, &opts, &mut |c| {
+        for (eye, pixels) in ["left", "right"].iter().zip(c.eyes) {
+            let file = out.join(format!("frame_{:05}_{eye}.png", c.frame));
+            app::save_png(&file, c.width, c.height, pixels)?;
+            saved.push(file);
+        }
+        Ok(())
+    })?;
+    let json = format!(
+        "{{\n\"device\": \"{}\",\n\"frames\": {},\n\"stereo\": \"{}\",\n\"max_draws\": {},\n\"timings_ms\": {}}}\n",
+        report.device.replace('"', "'"),
+        report.frames,
+        opts.renderer.stereo.name(),
+        report.max_draws,
+        report.times.to_json()
+    );
+    let json_path = a.out.join("frame_times.json");
+    app::write_atomic(&json_path, json.as_bytes())?;
+    print_times(&report.times);
+    for f in &saved {
+        println!("wrote {}", f.display());
+    }
+    println!("wrote {}", json_path.display());
+    if report.validation_errors > 0 {
+        return Err(format!("{} Vulkan validation errors", report.validation_errors).into());
+    }
+    Ok(())
+}
+
+fn print_times(t: &FrameTimes) {
+    println!("{:<12} {:>9} {:>9} {:>9}", "ms", "p50", "p95", "p99");
+    for (name, p) in app::timing::TIMINGS.iter().zip(t.all()) {
+        println!("{name:<12} {:>9.3} {:>9.3} {:>9.3}", p.p50, p.p95, p.p99);
+    }
+}
 
 fn simulate(a: SimulateArgs) -> CmdResult {
     let cfg = a.ocean.config()?;

@@ -187,6 +187,15 @@ impl OceanLod {
         &self.skirts[(self.tree.ring_level() - self.settings.boundary_level()) as usize]
     }
 
+    /// The skirt for ring level `ring` (`boundary_level..=max_level`): the renderer uploads
+    /// them all once and draws the one [`Self::skirt`] returns.
+    ///
+    /// # Panics
+    /// If `ring` is outside that range.
+    pub fn skirt_for_ring(&self, ring: u32) -> &SkirtMesh {
+        &self.skirts[(ring - self.settings.boundary_level()) as usize]
+    }
+
     /// The snapped grid centre (world x, z) of the last frame (eq. 69).
     pub fn grid_centre(&self) -> Vec2 {
         self.grid_centre

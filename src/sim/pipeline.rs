@@ -243,6 +243,8 @@ struct Slot {
     done: Option<Surfaces>,
     /// New waves to apply before the next step.
     waves: Option<WaveParams>,
+    /// Wall time of the last finished step on the worker.
+    last_step: Duration,
     shutdown: bool,
     exited: bool,
 }
@@ -396,6 +398,12 @@ impl Simulation {
         &self.front
     }
 
+    /// Wall time the worker spent on the last finished step (stages 2-6, or 1-6 after a
+    /// wave change).
+    pub fn last_step_time(&self) -> Duration {
+        self.shared.lock().last_step
+    }
+
     /// Computes time `t` and returns it: `begin_step` + `end_step`.
     pub fn step_blocking(&mut self, t: f64) -> &Surfaces {
         self.begin_step(t);
@@ -439,8 +447,11 @@ fn worker_loop(core: &mut SimCore, shared: &Shared) {
             // Already validated by `Simulation::set_waves`.
             let _ = core.set_waves(w);
         }
+        let start = std::time::Instant::now();
         core.step(t, &mut out);
+        let took = start.elapsed();
         slot = shared.lock();
+        slot.last_step = took;
         slot.done = Some(out);
         shared.wake.notify_all();
     }

@@ -22,6 +22,14 @@ const APT_PACKAGES: &[&str] = &[
     "gcc-aarch64-linux-gnu",
     "libc6-dev-arm64-cross",
     "qemu-user-static",
+    // The renderer: GLSL → SPIR-V at build time, SPIR-V validation in a test, the Vulkan
+    // loader, Mesa's lavapipe (CPU Vulkan) to run on, and the Khronos validation layer the
+    // Vulkan tests require.
+    "glslang-tools",
+    "spirv-tools",
+    "libvulkan1",
+    "mesa-vulkan-drivers",
+    "vulkan-validationlayers",
 ];
 
 /// Extra packages for `cargo xtask bench` (the `fftw` feature links libfftw3f).

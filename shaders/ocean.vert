@@ -1,0 +1,103 @@
+#version 450
+// The ocean mesh: quadtree patches (instanced, one draw per stitch configuration) and the
+// horizon skirt, geomorphed exactly as `lod::morph` (the reference the LOD's watertightness
+// tests run) and displaced by the cascades' RGBA16F (Dx, h, Dz, J) textures.
+#ifdef MULTIVIEW
+#extension GL_EXT_multiview : require
+#endif
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+
+// eye: the eye of this pass (two-pass fallback only); mode: 0 = patch, 1 = skirt;
+// inner_count: skirt vertices on its inner edge; grid_v: V, cells per patch side.
+layout(push_constant) uniform Push {
+    uint eye;
+    uint mode;
+    uint inner_count;
+    uint grid_v;
+} pc;
+
+layout(set = 0, binding = 1) uniform sampler2DArray u_displacement;
+
+// Patch: unit-grid position (u, 0, v) in [-0.5, 0.5]^2 (eq. 67). Skirt: metres from the centre.
+layout(location = 0) in vec3 a_pos;
+// `lod::PatchInstance`, 40 bytes per instance.
+layout(location = 1) in vec2 i_centre;
+layout(location = 2) in float i_size;
+layout(location = 3) in uint i_level;
+layout(location = 4) in vec2 i_morph;
+layout(location = 5) in vec2 i_coarse_morph;
+layout(location = 6) in uint i_stitch;
+layout(location = 7) in float i_vertex_spacing;
+
+layout(location = 0) out vec3 v_world;
+layout(location = 1) out vec2 v_xz;
+layout(location = 2) flat out vec3 v_eye;
+
+const uint EAST = 1u;
+const uint NORTH = 2u;
+const uint WEST = 4u;
+const uint SOUTH = 8u;
+
+// k(d, r) = clamp((d - start) / (end - start), 0, 1); level 0 never morphs (empty range).
+float morph_factor(vec2 r, float d) {
+    return r.y > r.x ? clamp((d - r.x) / (r.y - r.x), 0.0, 1.0) : 0.0;
+}
+
+// h·k on each axis whose lattice coordinate round(p / h) is odd.
+vec2 morph_offset(vec2 p, float h, float k) {
+    vec2 c = round(p / h);
+    vec2 odd = abs(c - 2.0 * floor(c * 0.5));
+    return odd * (h * k);
+}
+
+void main() {
+#ifdef MULTIVIEW
+    uint eye = gl_ViewIndex;
+#else
+    uint eye = pc.eye;
+#endif
+    vec2 p0;
+    vec2 p;
+    float d;
+    if (pc.mode == 0u) {
+        float v = float(pc.grid_v);
+        p0 = i_centre + i_size * a_pos.xz;
+        float h = i_size / v;
+        d = distance(vec3(p0.x, 0.0, p0.y), g.lod_viewer.xyz);
+        p = p0 - morph_offset(p0, h, morph_factor(i_morph, d));
+        uvec2 ij = uvec2(round((a_pos.xz + 0.5) * v));
+        bool stitched = (ij.x == pc.grid_v && (i_stitch & EAST) != 0u)
+            || (ij.y == pc.grid_v && (i_stitch & NORTH) != 0u)
+            || (ij.x == 0u && (i_stitch & WEST) != 0u)
+            || (ij.y == 0u && (i_stitch & SOUTH) != 0u);
+        if (stitched) {
+            p -= morph_offset(p0, 2.0 * h, morph_factor(i_coarse_morph, d));
+        }
+    } else {
+        p0 = i_centre + a_pos.xz;
+        d = distance(vec3(p0.x, 0.0, p0.y), g.lod_viewer.xyz);
+        p = p0;
+        if (uint(gl_VertexIndex) < pc.inner_count) {
+            p -= morph_offset(p0, 2.0 * i_vertex_spacing, morph_factor(i_coarse_morph, d));
+        }
+    }
+    // Each cascade fades out with distance before its waves alias on the coarser mesh. The
+    // fade depends only on the undisplaced lattice point, which both patches sharing a vertex
+    // agree on, so it never opens a crack.
+    vec3 disp = vec3(0.0);
+    int cascades = int(g.params.x);
+    float half_texel = 0.5 / g.params.y;
+    for (int c = 0; c < cascades; ++c) {
+        float fade = 1.0 - smoothstep(g.fade_start[c], g.fade_end[c], d);
+        if (fade > 0.0) {
+            vec2 uv = p / g.patch_size[c] + half_texel;
+            disp += fade * textureLod(u_displacement, vec3(uv, float(c)), 0.0).xyz;
+        }
+    }
+    vec3 world = vec3(p.x, 0.0, p.y) + disp;
+    v_world = world;
+    v_xz = p;
+    v_eye = g.eye_pos[eye].xyz;
+    gl_Position = g.view_proj[eye] * vec4(world, 1.0);
+}

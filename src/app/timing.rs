@@ -1,0 +1,144 @@
+//! Frame-time samples and their percentiles, collected without allocating per frame and
+//! written as `frame_times.json`.
+
+use std::fmt::Write as _;
+use std::time::Duration;
+
+/// The timings each frame records.
+pub const TIMINGS: [&str; 7] = [
+    "frame_total",
+    "sim_step",
+    "sim_wait",
+    "lod",
+    "record",
+    "submit",
+    "gpu_pass",
+];
+
+/// Index into [`TIMINGS`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Timing {
+    /// From the start of `begin_frame` to the end of `end_frame`.
+    FrameTotal,
+    /// The simulation worker's step (runs in parallel with rendering).
+    SimStep,
+    /// How long the render thread waited for the step to finish.
+    SimWait,
+    /// LOD update (traversal, culling, batching).
+    Lod,
+    /// Uniforms, instances, staging copies and command recording.
+    Record,
+    /// `vkQueueSubmit`.
+    Submit,
+    /// GPU time of the ocean pass (timestamps).
+    GpuPass,
+}
+
+/// Up to `capacity` samples per timing, in milliseconds; later samples overwrite the oldest.
+#[derive(Clone, Debug)]
+pub struct FrameTimes {
+    samples: Vec<Vec<f64>>,
+    capacity: usize,
+    next: [usize; 7],
+    count: [u64; 7],
+}
+
+/// Percentiles of one timing (ms).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Percentiles {
+    /// Median.
+    pub p50: f64,
+    /// 95th percentile.
+    pub p95: f64,
+    /// 99th percentile.
+    pub p99: f64,
+    /// Samples behind them.
+    pub samples: usize,
+}
+
+impl FrameTimes {
+    /// Room for `capacity` frames, allocated now.
+    pub fn with_capacity(capacity: usize) -> Self {
+        let capacity = capacity.max(1);
+        Self {
+            samples: (0..TIMINGS.len())
+                .map(|_| Vec::with_capacity(capacity))
+                .collect(),
+            capacity,
+            next: [0; 7],
+            count: [0; 7],
+        }
+    }
+
+    /// Records one sample.
+    pub fn push(&mut self, t: Timing, d: Duration) {
+        let i = t as usize;
+        let ms = d.as_secs_f64() * 1e3;
+        let v = &mut self.samples[i];
+        if v.len() < self.capacity {
+            v.push(ms);
+        } else {
+            v[self.next[i]] = ms;
+        }
+        self.next[i] = (self.next[i] + 1) % self.capacity;
+        self.count[i] += 1;
+    }
+
+    /// Percentiles of timing `t` (nearest rank); all zero without samples.
+    pub fn percentiles(&self, t: Timing) -> Percentiles {
+        let mut v = self.samples[t as usize].clone();
+        if v.is_empty() {
+            return Percentiles::default();
+        }
+        v.sort_by(f64::total_cmp);
+        let at = |p: f64| v[((p * v.len() as f64).ceil() as usize).clamp(1, v.len()) - 1];
+        Percentiles {
+            p50: at(0.50),
+            p95: at(0.95),
+            p99: at(0.99),
+            samples: v.len(),
+        }
+    }
+
+    /// Every timing's percentiles, in [`TIMINGS`] order.
+    pub fn all(&self) -> [Percentiles; 7] {
+        use Timing::*;
+        [FrameTotal, SimStep, SimWait, Lod, Record, Submit, GpuPass].map(|t| self.percentiles(t))
+    }
+
+    /// The JSON object `{"frame_total": {"p50": …, "p95": …, "p99": …, "samples": …}, …}`.
+    pub fn to_json(&self) -> String {
+        let mut s = String::from("{");
+        for (i, (name, p)) in TIMINGS.iter().zip(self.all()).enumerate() {
+            let sep = if i == 0 { "" } else { "," };
+            let _ = write!(
+                s,
+                "{sep}\n  \"{name}\": {{\"p50\": {:.4}, \"p95\": {:.4}, \"p99\": {:.4}, \"samples\": {}}}",
+                p.p50, p.p95, p.p99, p.samples
+            );
+        }
+        s.push_str("\n}\n");
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn percentiles_use_nearest_rank_and_keep_the_newest_samples() {
+        let mut t = FrameTimes::with_capacity(100);
+        for i in 1..=100 {
+            t.push(Timing::Lod, Duration::from_millis(i));
+        }
+        let p = t.percentiles(Timing::Lod);
+        assert_eq!((p.p50, p.p95, p.p99, p.samples), (50.0, 95.0, 99.0, 100));
+        for _ in 0..100 {
+            t.push(Timing::Lod, Duration::from_millis(1000));
+        }
+        assert_eq!(t.percentiles(Timing::Lod).p50, 1000.0);
+        assert_eq!(t.percentiles(Timing::GpuPass), Percentiles::default());
+        assert!(t.to_json().contains("\"lod\": {\"p50\": 1000.0000"));
+    }
+}

@@ -1,0 +1,123 @@
+//! Per-eye matrices and the per-frame uniform block the shaders read (`shaders/common.glsl`).
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec3, Vec4};
+
+use crate::lod::{EyeView, Fov};
+
+/// Near plane (m), the same the LOD's frusta use.
+pub const NEAR: f32 = crate::lod::frustum::NEAR_PLANE;
+
+/// Vulkan projection for an asymmetric OpenXR-style field of view, with reversed Z and an
+/// infinite far plane: depth = near / distance, so 1 at the near plane and → 0 at the horizon.
+/// Reversed Z with a float depth buffer keeps precision where an ocean needs it, from the
+/// user's feet to tens of kilometres. Clip y points down (Vulkan).
+pub fn projection(fov: &Fov, near: f32) -> Mat4 {
+    let (l, r) = (fov.angle_left.tan(), fov.angle_right.tan());
+    let (u, d) = (fov.angle_up.tan(), fov.angle_down.tan());
+    let (w, h) = (r - l, u - d);
+    Mat4::from_cols(
+        Vec4::new(2.0 / w, 0.0, 0.0, 0.0),
+        Vec4::new(0.0, -2.0 / h, 0.0, 0.0),
+        Vec4::new((r + l) / w, -(u + d) / h, 0.0, -1.0),
+        Vec4::new(0.0, 0.0, near, 0.0),
+    )
+}
+
+/// World → view transform of an eye (view space: x right, y up, looking down −z).
+pub fn view(eye: &EyeView) -> Mat4 {
+    Mat4::from_rotation_translation(eye.orientation, eye.position).inverse()
+}
+
+/// The uniform block, std140, mirrored by `Globals` in `shaders/common.glsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct Globals {
+    /// Projection × view per eye.
+    pub view_proj: [[f32; 16]; 2],
+    /// Inverse of projection × view rotation per eye: clip → world direction for the sky.
+    pub sky_from_clip: [[f32; 16]; 2],
+    /// Eye positions (xyz, w unused).
+    pub eye_pos: [[f32; 4]; 2],
+    /// The LOD viewer (xyz) and the simulation time (w).
+    pub lod_viewer: [f32; 4],
+    /// Unit direction towards the sun (xyz) and its intensity (w).
+    pub sun: [f32; 4],
+    /// Patch size L of cascades 0..3 (m).
+    pub patch_size: [f32; 4],
+    /// Distance where each cascade's displacement starts to fade (m).
+    pub fade_start: [f32; 4],
+    /// Distance where it is gone (m).
+    pub fade_end: [f32; 4],
+    /// Cascade count, grid N, fog distance (m), sky marker flag.
+    pub params: [f32; 4],
+}
+
+impl Globals {
+    /// Fills the per-eye part from the two views.
+    pub fn set_eyes(&mut self, eyes: &[EyeView; 2]) {
+        for (i, eye) in eyes.iter().enumerate() {
+            let p = projection(&eye.fov, NEAR);
+            self.view_proj[i] = (p * view(eye)).to_cols_array();
+            let rot = Mat4::from_quat(eye.orientation.inverse());
+            self.sky_from_clip[i] = (p * rot).inverse().to_cols_array();
+            self.eye_pos[i] = eye.position.extend(1.0).to_array();
+        }
+    }
+}
+
+/// Where world point `p` lands in an eye's image: pixel coordinates (x right, y down) for an
+/// image of `width` × `height`, or `None` behind the eye. Tests use it to find the horizon and
+/// the expected parallax.
+pub fn project_to_pixel(eye: &EyeView, p: Vec3, width: u32, height: u32) -> Option<(f32, f32)> {
+    let c = projection(&eye.fov, NEAR) * view(eye) * p.extend(1.0);
+    (c.w > 0.0).then(|| {
+        let (x, y) = (c.x / c.w, c.y / c.w);
+        (
+            (x * 0.5 + 0.5) * width as f32,
+            (y * 0.5 + 0.5) * height as f32,
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Quat;
+
+    #[test]
+    fn projection_maps_fov_edges_to_ndc_edges_with_reversed_depth() {
+        let fov = Fov::QUEST_EYES[0];
+        let p = projection(&fov, 0.05);
+        let at = |x: f32, y: f32, z: f32| {
+            let c = p * Vec4::new(x, y, z, 1.0);
+            c.truncate() / c.w
+        };
+        // A point on the left edge of the field of view at 10 m.
+        let l = at(10.0 * fov.angle_left.tan(), 0.0, -10.0);
+        assert!((l.x + 1.0).abs() < 1e-5, "{l}");
+        let u = at(0.0, 10.0 * fov.angle_up.tan(), -10.0);
+        assert!((u.y + 1.0).abs() < 1e-5, "up is ndc y = -1 in Vulkan: {u}");
+        assert!((at(0.0, 0.0, -0.05).z - 1.0).abs() < 1e-6);
+        assert!((at(0.0, 0.0, -100.0).z - 0.0005).abs() < 1e-7);
+    }
+
+    #[test]
+    fn sky_matrix_turns_clip_positions_into_view_directions() {
+        let eye = EyeView {
+            position: Vec3::new(5.0, 2.0, -3.0),
+            orientation: Quat::from_rotation_y(0.7),
+            fov: Fov::QUEST_EYES[1],
+        };
+        let mut g = Globals::zeroed();
+        g.set_eyes(&[eye, eye]);
+        let m = Mat4::from_cols_array(&g.sky_from_clip[0]);
+        // Pick a world direction, project it, and map the pixel back.
+        let dir = Vec3::new(0.3, 0.1, -1.0).normalize();
+        let world_dir = eye.orientation * dir;
+        let c = projection(&eye.fov, NEAR) * Vec4::new(dir.x, dir.y, dir.z, 1.0);
+        let back = m * Vec4::new(c.x / c.w, c.y / c.w, 1.0, 1.0);
+        let back = (back.truncate() / back.w).normalize();
+        assert!(back.distance(world_dir) < 1e-4, "{back} vs {world_dir}");
+    }
+}

@@ -1,0 +1,382 @@
+//! The Vulkan instance, device and queue every renderer part shares, with the Khronos validation
+//! layer and a messenger that counts its errors (tests fail on any).
+
+use std::ffi::{c_char, c_void, CStr};
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::{Arc, Mutex};
+
+use ash::vk;
+
+use super::error::RenderError;
+
+/// The Khronos validation layer (Debian `vulkan-validationlayers`).
+pub const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
+
+/// Whether to load the validation layer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Validation {
+    /// Never (release runs: the layer costs a lot of CPU).
+    Off,
+    /// When installed; a warning otherwise.
+    IfAvailable,
+    /// Required: an error when the layer is missing (tests).
+    Required,
+}
+
+/// What a [`GpuContext`] is created with.
+#[derive(Clone, Debug)]
+pub struct ContextOptions {
+    /// Validation layer policy.
+    pub validation: Validation,
+    /// Extra instance extensions (e.g. the window system's surface extensions).
+    pub instance_extensions: Vec<*const c_char>,
+    /// Whether the device must be able to present (enables `VK_KHR_swapchain`).
+    pub present: bool,
+}
+
+impl Default for ContextOptions {
+    fn default() -> Self {
+        Self {
+            validation: Validation::IfAvailable,
+            instance_extensions: Vec::new(),
+            present: false,
+        }
+    }
+}
+
+/// Errors and warnings the validation layer reported.
+#[derive(Debug, Default)]
+pub struct ValidationLog {
+    errors: AtomicU32,
+    warnings: AtomicU32,
+    first: Mutex<Vec<String>>,
+}
+
+impl ValidationLog {
+    /// Validation errors so far.
+    pub fn errors(&self) -> u32 {
+        self.errors.load(Ordering::Relaxed)
+    }
+
+    /// Validation warnings so far.
+    pub fn warnings(&self) -> u32 {
+        self.warnings.load(Ordering::Relaxed)
+    }
+
+    /// The first few error messages (for test failures).
+    pub fn messages(&self) -> Vec<String> {
+        self.first.lock().map(|m| m.clone()).unwrap_or_default()
+    }
+}
+
+/// Instance, physical device, logical device and the one graphics queue.
+pub struct GpuContext {
+    /// The loaded Vulkan entry points.
+    pub entry: ash::Entry,
+    /// The instance.
+    pub instance: ash::Instance,
+    /// The chosen physical device.
+    pub physical: vk::PhysicalDevice,
+    /// The logical device.
+    pub device: ash::Device,
+    /// The graphics (and present, when asked) queue.
+    pub queue: vk::Queue,
+    /// Its family.
+    pub queue_family: u32,
+    /// Whether the device supports multiview (Vulkan 1.1 feature `multiview`).
+    pub multiview: bool,
+    /// Nanoseconds per timestamp tick, or `None` when the queue has no timestamps.
+    pub timestamp_period: Option<f32>,
+    /// Memory types of the device.
+    pub memory: vk::PhysicalDeviceMemoryProperties,
+    /// Device name, for logs and reports.
+    pub device_name: String,
+    /// Validation messages, when the layer is loaded.
+    pub validation: Option<Arc<ValidationLog>>,
+    debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+}
+
+impl GpuContext {
+    /// Loads Vulkan, creates an instance (1.1) and a device with one graphics queue, preferring
+    /// a discrete GPU, then an integrated one, then anything (lavapipe).
+    pub fn new(opts: &ContextOptions) -> Result<Self, RenderError> {
+        // SAFETY: loading the system loader runs its initialisers; nothing else is loaded.
+        let entry =
+            unsafe { ash::Entry::load() }.map_err(|e| RenderError::NoLoader(e.to_string()))?;
+        let has_layer = unsafe { entry.enumerate_instance_layer_properties() }
+            .map_err(RenderError::vk("vkEnumerateInstanceLayerProperties"))?
+            .iter()
+            .any(|l| l.layer_name_as_c_str() == Ok(VALIDATION_LAYER));
+        let validate = match opts.validation {
+            Validation::Off => false,
+            Validation::IfAvailable => {
+                if !has_layer {
+                    log::warn!(
+                        "Vulkan validation layer not installed (apt install vulkan-validationlayers)"
+                    );
+                }
+                has_layer
+            }
+            Validation::Required if !has_layer => {
+                return Err(RenderError::Unsupported(
+                    "the Khronos validation layer: apt install vulkan-validationlayers".into(),
+                ))
+            }
+            Validation::Required => true,
+        };
+        let app = vk::ApplicationInfo::default()
+            .application_name(c"vr-ocean")
+            .application_version(1)
+            .engine_name(c"vr-ocean")
+            .api_version(vk::API_VERSION_1_1);
+        let layers = [VALIDATION_LAYER.as_ptr()];
+        let mut extensions = opts.instance_extensions.clone();
+        if validate {
+            extensions.push(ash::ext::debug_utils::NAME.as_ptr());
+        }
+        let log = validate.then(|| Arc::new(ValidationLog::default()));
+        let mut messenger_info = log.as_ref().map(|log| {
+            vk::DebugUtilsMessengerCreateInfoEXT::default()
+                .message_severity(
+                    vk::DebugUtilsMessageSeverityFlagsEXT::ERROR
+                        | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING,
+                )
+                .message_type(
+                    vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
+                        | vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
+                        | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
+                )
+                .pfn_user_callback(Some(on_message))
+                .user_data(Arc::as_ptr(log) as *mut c_void)
+        });
+        let mut info = vk::InstanceCreateInfo::default()
+            .application_info(&app)
+            .enabled_extension_names(&extensions);
+        if validate {
+            info = info.enabled_layer_names(&layers);
+        }
+        if let Some(m) = messenger_info.as_mut() {
+            info = info.push_next(m);
+        }
+        // SAFETY: every pointer in `info` outlives the call.
+        let instance = unsafe { entry.create_instance(&info, None) }.map_err(|e| match e {
+            vk::Result::ERROR_INCOMPATIBLE_DRIVER => RenderError::NoDevice(e.to_string()),
+            e => RenderError::Vk {
+                call: "vkCreateInstance",
+                result: e,
+            },
+        })?;
+        let debug = match messenger_info {
+            Some(m) => {
+                let du = ash::ext::debug_utils::Instance::new(&entry, &instance);
+                let messenger = unsafe { du.create_debug_utils_messenger(&m, None) }
+                    .map_err(RenderError::vk("vkCreateDebugUtilsMessengerEXT"))?;
+                Some((du, messenger))
+            }
+            None => None,
+        };
+        let mut ctx = PartialContext {
+            entry,
+            instance,
+            debug,
+        };
+        let (physical, queue_family) = ctx.pick_device(opts.present)?;
+        let instance = &ctx.instance;
+        // SAFETY: `physical` came from this instance.
+        let props = unsafe { instance.get_physical_device_properties(physical) };
+        let device_name = props
+            .device_name_as_c_str()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        if vk::api_version_major(props.api_version) == 1
+            && vk::api_version_minor(props.api_version) < 1
+        {
+            return Err(RenderError::Unsupported(format!(
+                "Vulkan 1.1 ({device_name} has {}.{})",
+                vk::api_version_major(props.api_version),
+                vk::api_version_minor(props.api_version)
+            )));
+        }
+        let mut mv = vk::PhysicalDeviceMultiviewFeatures::default();
+        let mut f2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut mv);
+        unsafe { instance.get_physical_device_features2(physical, &mut f2) };
+        let multiview = mv.multiview == vk::TRUE;
+        let families = unsafe { instance.get_physical_device_queue_family_properties(physical) };
+        let timestamp_period = (families[queue_family as usize].timestamp_valid_bits > 0
+            && props.limits.timestamp_period > 0.0)
+            .then_some(props.limits.timestamp_period);
+
+        let priorities = [1.0];
+        let queues = [vk::DeviceQueueCreateInfo::default()
+            .queue_family_index(queue_family)
+            .queue_priorities(&priorities)];
+        let mut dev_ext = Vec::new();
+        if opts.present {
+            dev_ext.push(ash::khr::swapchain::NAME.as_ptr());
+        }
+        let mut enable_mv = vk::PhysicalDeviceMultiviewFeatures::default().multiview(multiview);
+        let dinfo = vk::DeviceCreateInfo::default()
+            .queue_create_infos(&queues)
+            .enabled_extension_names(&dev_ext)
+            .push_next(&mut enable_mv);
+        let device = unsafe { instance.create_device(physical, &dinfo, None) }
+            .map_err(RenderError::vk("vkCreateDevice"))?;
+        let queue = unsafe { device.get_device_queue(queue_family, 0) };
+        let memory = unsafe { instance.get_physical_device_memory_properties(physical) };
+        let (entry, instance, debug) = ctx.take();
+        log::info!(
+            "Vulkan device: {device_name} (multiview {multiview}, validation {})",
+            log.is_some()
+        );
+        Ok(Self {
+            entry,
+            instance,
+            physical,
+            device,
+            queue,
+            queue_family,
+            multiview,
+            timestamp_period,
+            memory,
+            device_name,
+            validation: log,
+            debug,
+        })
+    }
+
+    /// Validation errors so far (0 without the layer).
+    pub fn validation_errors(&self) -> u32 {
+        self.validation.as_ref().map_or(0, |l| l.errors())
+    }
+
+    /// Index of a memory type allowed by `type_bits` with all of `flags`.
+    pub fn memory_type(&self, type_bits: u32, flags: vk::MemoryPropertyFlags) -> Option<u32> {
+        (0..self.memory.memory_type_count).find(|&i| {
+            type_bits & (1 << i) != 0
+                && self.memory.memory_types[i as usize]
+                    .property_flags
+                    .contains(flags)
+        })
+    }
+
+    /// Waits until the device is idle (shutdown and resizes only, never in the frame loop).
+    pub fn wait_idle(&self) {
+        // SAFETY: the device is alive; errors here mean device loss, reported elsewhere.
+        if let Err(e) = unsafe { self.device.device_wait_idle() } {
+            log::error!("vkDeviceWaitIdle: {e}");
+        }
+    }
+}
+
+impl Drop for GpuContext {
+    fn drop(&mut self) {
+        // SAFETY: owners of device objects are dropped before the context (they borrow it).
+        unsafe {
+            self.device.destroy_device(None);
+            if let Some((du, m)) = self.debug.take() {
+                du.destroy_debug_utils_messenger(m, None);
+            }
+            self.instance.destroy_instance(None);
+        }
+    }
+}
+
+/// An instance not yet wrapped in a [`GpuContext`]: destroyed if device set-up fails.
+struct PartialContext {
+    entry: ash::Entry,
+    instance: ash::Instance,
+    debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+}
+
+impl PartialContext {
+    fn pick_device(&mut self, present: bool) -> Result<(vk::PhysicalDevice, u32), RenderError> {
+        let _ = present;
+        let devices = unsafe { self.instance.enumerate_physical_devices() }
+            .map_err(|e| RenderError::NoDevice(e.to_string()))?;
+        if devices.is_empty() {
+            return Err(RenderError::NoDevice("the loader lists no device".into()));
+        }
+        let rank = |t: vk::PhysicalDeviceType| match t {
+            vk::PhysicalDeviceType::DISCRETE_GPU => 0,
+            vk::PhysicalDeviceType::INTEGRATED_GPU => 1,
+            vk::PhysicalDeviceType::VIRTUAL_GPU => 2,
+            _ => 3,
+        };
+        let mut best: Option<(u32, vk::PhysicalDevice, u32)> = None;
+        for d in devices {
+            let props = unsafe { self.instance.get_physical_device_properties(d) };
+            let families = unsafe { self.instance.get_physical_device_queue_family_properties(d) };
+            let Some(q) = families
+                .iter()
+                .position(|f| f.queue_flags.contains(vk::QueueFlags::GRAPHICS))
+            else {
+                continue;
+            };
+            let r = rank(props.device_type);
+            if best.is_none_or(|(br, _, _)| r < br) {
+                best = Some((r, d, q as u32));
+            }
+        }
+        best.map(|(_, d, q)| (d, q))
+            .ok_or_else(|| RenderError::NoDevice("no device has a graphics queue".into()))
+    }
+
+    /// Moves the parts out without running `Drop`.
+    #[allow(clippy::type_complexity)]
+    fn take(
+        self,
+    ) -> (
+        ash::Entry,
+        ash::Instance,
+        Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+    ) {
+        let this = std::mem::ManuallyDrop::new(self);
+        // SAFETY: `this` is never used or dropped again, so each field is moved out once.
+        unsafe {
+            (
+                std::ptr::read(&this.entry),
+                std::ptr::read(&this.instance),
+                std::ptr::read(&this.debug),
+            )
+        }
+    }
+}
+
+impl Drop for PartialContext {
+    fn drop(&mut self) {
+        // SAFETY: only reached when set-up failed before a device existed.
+        unsafe {
+            if let Some((du, m)) = self.debug.take() {
+                du.destroy_debug_utils_messenger(m, None);
+            }
+            self.instance.destroy_instance(None);
+        }
+    }
+}
+
+unsafe extern "system" fn on_message(
+    severity: vk::DebugUtilsMessageSeverityFlagsEXT,
+    _types: vk::DebugUtilsMessageTypeFlagsEXT,
+    data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
+    user: *mut c_void,
+) -> vk::Bool32 {
+    // SAFETY: `user` is the `ValidationLog` the context keeps alive while the messenger exists.
+    let log = unsafe { &*(user as *const ValidationLog) };
+    let msg = unsafe { data.as_ref() }
+        .and_then(|d| unsafe { d.message_as_c_str() })
+        .map(|m| m.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    if severity.contains(vk::DebugUtilsMessageSeverityFlagsEXT::ERROR) {
+        log.errors.fetch_add(1, Ordering::Relaxed);
+        if let Ok(mut first) = log.first.lock() {
+            if first.len() < 8 {
+                first.push(msg.clone());
+            }
+        }
+        log::error!("Vulkan validation: {msg}");
+    } else {
+        log.warnings.fetch_add(1, Ordering::Relaxed);
+        log::warn!("Vulkan validation: {msg}");
+    }
+    vk::FALSE
+}

@@ -1,0 +1,261 @@
+//! Buffers and images with their own memory. The renderer owns a few dozen long-lived
+//! resources, all created up front, so one allocation each is simple and costs nothing per frame.
+
+use ash::vk;
+
+use super::context::GpuContext;
+use super::error::RenderError;
+
+/// A buffer bound to its own memory, persistently mapped when host-visible.
+pub struct Buffer {
+    /// The buffer.
+    pub raw: vk::Buffer,
+    memory: vk::DeviceMemory,
+    /// Size in bytes.
+    pub size: u64,
+    mapped: *mut u8,
+}
+
+// SAFETY: the mapping is plain memory owned by this buffer; access follows Rust borrows.
+unsafe impl Send for Buffer {}
+
+impl Buffer {
+    /// A device-local buffer (`host_visible` false) or a host-visible, coherent, mapped one.
+    pub fn new(
+        ctx: &GpuContext,
+        size: u64,
+        usage: vk::BufferUsageFlags,
+        host_visible: bool,
+    ) -> Result<Self, RenderError> {
+        let d = &ctx.device;
+        let info = vk::BufferCreateInfo::default()
+            .size(size.max(4))
+            .usage(usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        let raw =
+            unsafe { d.create_buffer(&info, None) }.map_err(RenderError::vk("vkCreateBuffer"))?;
+        let req = unsafe { d.get_buffer_memory_requirements(raw) };
+        let flags = if host_visible {
+            vk::MemoryPropertyFlags::HOST_VISIBLE | vk::MemoryPropertyFlags::HOST_COHERENT
+        } else {
+            vk::MemoryPropertyFlags::DEVICE_LOCAL
+        };
+        let memory = allocate(ctx, req, flags).inspect_err(|_| unsafe {
+            d.destroy_buffer(raw, None);
+        })?;
+        unsafe { d.bind_buffer_memory(raw, memory, 0) }
+            .map_err(RenderError::vk("vkBindBufferMemory"))?;
+        let mapped = if host_visible {
+            unsafe { d.map_memory(memory, 0, vk::WHOLE_SIZE, vk::MemoryMapFlags::empty()) }
+                .map_err(RenderError::vk("vkMapMemory"))? as *mut u8
+        } else {
+            std::ptr::null_mut()
+        };
+        Ok(Self {
+            raw,
+            memory,
+            size,
+            mapped,
+        })
+    }
+
+    /// The mapped bytes (host-visible buffers only).
+    ///
+    /// # Panics
+    /// On a device-local buffer.
+    pub fn bytes_mut(&mut self) -> &mut [u8] {
+        assert!(!self.mapped.is_null(), "buffer is not host-visible");
+        // SAFETY: the mapping covers `size` bytes and lives as long as `self`.
+        unsafe { std::slice::from_raw_parts_mut(self.mapped, self.size as usize) }
+    }
+
+    /// The mapped bytes, read-only.
+    ///
+    /// # Panics
+    /// On a device-local buffer.
+    pub fn bytes(&self) -> &[u8] {
+        assert!(!self.mapped.is_null(), "buffer is not host-visible");
+        // SAFETY: as in `bytes_mut`.
+        unsafe { std::slice::from_raw_parts(self.mapped, self.size as usize) }
+    }
+
+    /// Frees the buffer. The GPU must be done with it.
+    pub fn destroy(&mut self, ctx: &GpuContext) {
+        unsafe {
+            ctx.device.destroy_buffer(self.raw, None);
+            ctx.device.free_memory(self.memory, None);
+        }
+        self.raw = vk::Buffer::null();
+        self.memory = vk::DeviceMemory::null();
+        self.mapped = std::ptr::null_mut();
+    }
+}
+
+/// A 2D (array) image with its own memory and one view over all layers and mips.
+pub struct Image {
+    /// The image.
+    pub raw: vk::Image,
+    memory: vk::DeviceMemory,
+    /// View of every layer and mip (2D array).
+    pub view: vk::ImageView,
+    /// Format.
+    pub format: vk::Format,
+    /// Size of mip 0.
+    pub extent: vk::Extent2D,
+    /// Array layers.
+    pub layers: u32,
+    /// Mip levels.
+    pub mips: u32,
+}
+
+/// What an [`Image`] is made of.
+#[derive(Clone, Copy, Debug)]
+pub struct ImageDesc {
+    /// Format.
+    pub format: vk::Format,
+    /// Mip-0 size.
+    pub extent: vk::Extent2D,
+    /// Array layers.
+    pub layers: u32,
+    /// Mip levels.
+    pub mips: u32,
+    /// Usage.
+    pub usage: vk::ImageUsageFlags,
+    /// Aspect of the view.
+    pub aspect: vk::ImageAspectFlags,
+    /// Prefer lazily allocated memory (transient attachments on tile-based GPUs).
+    pub transient: bool,
+}
+
+impl Image {
+    /// Creates the image, its memory and its array view.
+    pub fn new(ctx: &GpuContext, desc: ImageDesc) -> Result<Self, RenderError> {
+        let d = &ctx.device;
+        let info = vk::ImageCreateInfo::default()
+            .image_type(vk::ImageType::TYPE_2D)
+            .format(desc.format)
+            .extent(vk::Extent3D {
+                width: desc.extent.width,
+                height: desc.extent.height,
+                depth: 1,
+            })
+            .mip_levels(desc.mips)
+            .array_layers(desc.layers)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .tiling(vk::ImageTiling::OPTIMAL)
+            .usage(desc.usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE)
+            .initial_layout(vk::ImageLayout::UNDEFINED);
+        let raw =
+            unsafe { d.create_image(&info, None) }.map_err(RenderError::vk("vkCreateImage"))?;
+        let req = unsafe { d.get_image_memory_requirements(raw) };
+        let lazy =
+            vk::MemoryPropertyFlags::DEVICE_LOCAL | vk::MemoryPropertyFlags::LAZILY_ALLOCATED;
+        let flags = if desc.transient && ctx.memory_type(req.memory_type_bits, lazy).is_some() {
+            lazy
+        } else {
+            vk::MemoryPropertyFlags::DEVICE_LOCAL
+        };
+        let memory = allocate(ctx, req, flags).inspect_err(|_| unsafe {
+            d.destroy_image(raw, None);
+        })?;
+        unsafe { d.bind_image_memory(raw, memory, 0) }
+            .map_err(RenderError::vk("vkBindImageMemory"))?;
+        let view = create_view(
+            ctx,
+            raw,
+            desc.format,
+            desc.aspect,
+            0,
+            desc.layers,
+            desc.mips,
+        )?;
+        Ok(Self {
+            raw,
+            memory,
+            view,
+            format: desc.format,
+            extent: desc.extent,
+            layers: desc.layers,
+            mips: desc.mips,
+        })
+    }
+
+    /// Frees the image. The GPU must be done with it.
+    pub fn destroy(&mut self, ctx: &GpuContext) {
+        unsafe {
+            ctx.device.destroy_image_view(self.view, None);
+            ctx.device.destroy_image(self.raw, None);
+            ctx.device.free_memory(self.memory, None);
+        }
+        self.raw = vk::Image::null();
+    }
+}
+
+/// A 2D-array view of `count` layers from `base` (all `mips`).
+pub fn create_view(
+    ctx: &GpuContext,
+    image: vk::Image,
+    format: vk::Format,
+    aspect: vk::ImageAspectFlags,
+    base: u32,
+    count: u32,
+    mips: u32,
+) -> Result<vk::ImageView, RenderError> {
+    let info = vk::ImageViewCreateInfo::default()
+        .image(image)
+        .view_type(vk::ImageViewType::TYPE_2D_ARRAY)
+        .format(format)
+        .subresource_range(vk::ImageSubresourceRange {
+            aspect_mask: aspect,
+            base_mip_level: 0,
+            level_count: mips,
+            base_array_layer: base,
+            layer_count: count,
+        });
+    unsafe { ctx.device.create_image_view(&info, None) }
+        .map_err(RenderError::vk("vkCreateImageView"))
+}
+
+fn allocate(
+    ctx: &GpuContext,
+    req: vk::MemoryRequirements,
+    flags: vk::MemoryPropertyFlags,
+) -> Result<vk::DeviceMemory, RenderError> {
+    let index = ctx
+        .memory_type(req.memory_type_bits, flags)
+        .ok_or_else(|| RenderError::Unsupported(format!("a memory type with {flags:?}")))?;
+    let info = vk::MemoryAllocateInfo::default()
+        .allocation_size(req.size)
+        .memory_type_index(index);
+    unsafe { ctx.device.allocate_memory(&info, None) }.map_err(RenderError::vk("vkAllocateMemory"))
+}
+
+/// An image memory barrier over `layers` layers and `mips` mips of a colour or depth image.
+#[allow(clippy::too_many_arguments)]
+pub fn image_barrier(
+    image: vk::Image,
+    aspect: vk::ImageAspectFlags,
+    layers: u32,
+    mips: u32,
+    old: vk::ImageLayout,
+    new: vk::ImageLayout,
+    src_access: vk::AccessFlags,
+    dst_access: vk::AccessFlags,
+) -> vk::ImageMemoryBarrier<'static> {
+    vk::ImageMemoryBarrier::default()
+        .image(image)
+        .old_layout(old)
+        .new_layout(new)
+        .src_access_mask(src_access)
+        .dst_access_mask(dst_access)
+        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .subresource_range(vk::ImageSubresourceRange {
+            aspect_mask: aspect,
+            base_mip_level: 0,
+            level_count: mips,
+            base_array_layer: 0,
+            layer_count: layers,
+        })
+}

@@ -1,0 +1,78 @@
+//! The ash Vulkan 1.1 renderer: one multiview pass (view mask 0b11) draws both eyes into
+//! 2-layer array images, with a two-pass fallback; the simulation's textures arrive through a
+//! per-frame staging ring. It draws what `sim` and `lod` produce and knows nothing of XR: the
+//! backend in `xr` owns the target images and hands them in.
+//!
+//! - [`context`]: instance, device, queue, validation-error counting.
+//! - [`memory`]: buffers and images with their own memory.
+//! - [`pipeline`]: the stereo render pass and the ocean and sky pipelines.
+//! - [`camera`]: reversed-Z projections and the uniform block.
+//! - [`ocean`]: the per-frame renderer.
+//! - [`readback`]: copies a rendered array image to the CPU (screenshots, tests).
+//! - [`shaders`]: SPIR-V compiled from `shaders/` by `build.rs`.
+
+pub mod camera;
+pub mod context;
+pub mod error;
+pub mod memory;
+pub mod ocean;
+pub mod pipeline;
+pub mod readback;
+pub mod shaders;
+
+pub use context::{ContextOptions, GpuContext, Validation, ValidationLog};
+pub use error::RenderError;
+pub use ocean::{FrameInput, FrameReport, OceanRenderer, RendererSettings, TargetImages};
+pub use pipeline::StereoMode;
+
+use ash::vk;
+
+/// Records `f` into a fresh command buffer, submits it and waits for it. For set-up and
+/// read-back only, never in the frame loop.
+pub fn one_shot(ctx: &GpuContext, f: impl FnOnce(vk::CommandBuffer)) -> Result<(), RenderError> {
+    let d = &ctx.device;
+    let pool = unsafe {
+        d.create_command_pool(
+            &vk::CommandPoolCreateInfo::default()
+                .queue_family_index(ctx.queue_family)
+                .flags(vk::CommandPoolCreateFlags::TRANSIENT),
+            None,
+        )
+    }
+    .map_err(RenderError::vk("vkCreateCommandPool"))?;
+    let result = (|| {
+        let cmd = unsafe {
+            d.allocate_command_buffers(
+                &vk::CommandBufferAllocateInfo::default()
+                    .command_pool(pool)
+                    .level(vk::CommandBufferLevel::PRIMARY)
+                    .command_buffer_count(1),
+            )
+        }
+        .map_err(RenderError::vk("vkAllocateCommandBuffers"))?[0];
+        unsafe {
+            d.begin_command_buffer(
+                cmd,
+                &vk::CommandBufferBeginInfo::default()
+                    .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
+            )
+        }
+        .map_err(RenderError::vk("vkBeginCommandBuffer"))?;
+        f(cmd);
+        unsafe { d.end_command_buffer(cmd) }.map_err(RenderError::vk("vkEndCommandBuffer"))?;
+        let fence = unsafe { d.create_fence(&vk::FenceCreateInfo::default(), None) }
+            .map_err(RenderError::vk("vkCreateFence"))?;
+        let cmds = [cmd];
+        let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
+        let r = unsafe { d.queue_submit(ctx.queue, &submit, fence) }
+            .map_err(RenderError::vk("vkQueueSubmit"))
+            .and_then(|_| {
+                unsafe { d.wait_for_fences(&[fence], true, u64::MAX) }
+                    .map_err(RenderError::vk("vkWaitForFences"))
+            });
+        unsafe { d.destroy_fence(fence, None) };
+        r
+    })();
+    unsafe { d.destroy_command_pool(pool, None) };
+    result
+}

@@ -1,0 +1,372 @@
+//! The stereo render pass (multiview view mask 0b11, or one layer per pass for the fallback)
+//! and the ocean and sky pipelines built against it.
+
+use std::ffi::CStr;
+
+use ash::vk;
+
+use super::context::GpuContext;
+use super::error::RenderError;
+use super::shaders;
+use crate::lod::PatchInstance;
+
+/// How both eyes are drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StereoMode {
+    /// One render pass with view mask 0b11; `gl_ViewIndex` picks the eye.
+    Multiview,
+    /// One render pass per eye into one layer each; a push constant picks the eye.
+    TwoPass,
+}
+
+impl StereoMode {
+    /// Lower-case name, as the CLI spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            StereoMode::Multiview => "multiview",
+            StereoMode::TwoPass => "two-pass",
+        }
+    }
+}
+
+/// The depth format: float, for reversed Z.
+pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+/// Push constants of every pipeline (vertex stage), mirrored by `Push` in the shaders.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Push {
+    /// The eye of this pass (two-pass only).
+    pub eye: u32,
+    /// 0: quadtree patches; 1: the skirt.
+    pub mode: u32,
+    /// Skirt vertices on its inner edge (they morph).
+    pub inner_count: u32,
+    /// V, cells per patch side.
+    pub grid_v: u32,
+}
+
+/// Render pass, layouts and pipelines of one stereo mode.
+pub struct Pipelines {
+    /// The mode these were built for.
+    pub mode: StereoMode,
+    /// Colour + depth, cleared; colour ends in `COLOR_ATTACHMENT_OPTIMAL` (what an OpenXR
+    /// swapchain image must be in when released).
+    pub render_pass: vk::RenderPass,
+    /// Set 0: globals (binding 0), displacement (1), normal/foam (2).
+    pub set_layout: vk::DescriptorSetLayout,
+    /// The layout all pipelines share.
+    pub layout: vk::PipelineLayout,
+    /// The ocean (patches and skirt).
+    pub ocean: vk::Pipeline,
+    /// The sky (full-screen triangle at the far plane).
+    pub sky: vk::Pipeline,
+}
+
+impl Pipelines {
+    /// Builds everything for `mode` and a colour attachment of `colour_format`.
+    pub fn new(
+        ctx: &GpuContext,
+        mode: StereoMode,
+        colour_format: vk::Format,
+    ) -> Result<Self, RenderError> {
+        if mode == StereoMode::Multiview && !ctx.multiview {
+            return Err(RenderError::Unsupported("the multiview feature".into()));
+        }
+        let d = &ctx.device;
+        let render_pass = render_pass(ctx, mode, colour_format)?;
+        let bindings = [
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(0)
+                .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT),
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(1)
+                .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::VERTEX),
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(2)
+                .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::FRAGMENT),
+        ];
+        let set_layout = unsafe {
+            d.create_descriptor_set_layout(
+                &vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings),
+                None,
+            )
+        }
+        .map_err(RenderError::vk("vkCreateDescriptorSetLayout"))?;
+        let push = [vk::PushConstantRange {
+            stage_flags: vk::ShaderStageFlags::VERTEX,
+            offset: 0,
+            size: std::mem::size_of::<Push>() as u32,
+        }];
+        let layouts = [set_layout];
+        let layout = unsafe {
+            d.create_pipeline_layout(
+                &vk::PipelineLayoutCreateInfo::default()
+                    .set_layouts(&layouts)
+                    .push_constant_ranges(&push),
+                None,
+            )
+        }
+        .map_err(RenderError::vk("vkCreatePipelineLayout"))?;
+        let mv = mode == StereoMode::Multiview;
+        let ocean = build(
+            ctx,
+            &PipelineDesc {
+                vert: if mv {
+                    shaders::OCEAN_VERT_MULTIVIEW
+                } else {
+                    shaders::OCEAN_VERT
+                },
+                frag: shaders::OCEAN_FRAG,
+                instanced: true,
+                depth_write: true,
+                depth_compare: vk::CompareOp::GREATER,
+                cull: false,
+            },
+            layout,
+            render_pass,
+        )?;
+        let sky = build(
+            ctx,
+            &PipelineDesc {
+                vert: if mv {
+                    shaders::SKY_VERT_MULTIVIEW
+                } else {
+                    shaders::SKY_VERT
+                },
+                frag: shaders::SKY_FRAG,
+                instanced: false,
+                depth_write: false,
+                depth_compare: vk::CompareOp::GREATER_OR_EQUAL,
+                cull: false,
+            },
+            layout,
+            render_pass,
+        )?;
+        Ok(Self {
+            mode,
+            render_pass,
+            set_layout,
+            layout,
+            ocean,
+            sky,
+        })
+    }
+
+    /// Frees everything. The GPU must be done with it.
+    pub fn destroy(&mut self, ctx: &GpuContext) {
+        let d = &ctx.device;
+        unsafe {
+            d.destroy_pipeline(self.ocean, None);
+            d.destroy_pipeline(self.sky, None);
+            d.destroy_pipeline_layout(self.layout, None);
+            d.destroy_descriptor_set_layout(self.set_layout, None);
+            d.destroy_render_pass(self.render_pass, None);
+        }
+    }
+}
+
+fn render_pass(
+    ctx: &GpuContext,
+    mode: StereoMode,
+    colour_format: vk::Format,
+) -> Result<vk::RenderPass, RenderError> {
+    let attachments = [
+        vk::AttachmentDescription::default()
+            .format(colour_format)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
+            .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .initial_layout(vk::ImageLayout::UNDEFINED)
+            .final_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
+        vk::AttachmentDescription::default()
+            .format(DEPTH_FORMAT)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
+            .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .initial_layout(vk::ImageLayout::UNDEFINED)
+            .final_layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL),
+    ];
+    let colour_ref = [vk::AttachmentReference {
+        attachment: 0,
+        layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+    }];
+    let depth_ref = vk::AttachmentReference {
+        attachment: 1,
+        layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+    };
+    let subpass = [vk::SubpassDescription::default()
+        .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+        .color_attachments(&colour_ref)
+        .depth_stencil_attachment(&depth_ref)];
+    // The previous frame's use of the same attachments (colour read by a blit or the
+    // compositor, depth written) finishes before this pass clears them.
+    let deps = [vk::SubpassDependency::default()
+        .src_subpass(vk::SUBPASS_EXTERNAL)
+        .dst_subpass(0)
+        .src_stage_mask(
+            vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
+                | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS
+                | vk::PipelineStageFlags::TRANSFER,
+        )
+        .dst_stage_mask(
+            vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
+                | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS,
+        )
+        .src_access_mask(
+            vk::AccessFlags::COLOR_ATTACHMENT_WRITE
+                | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE
+                | vk::AccessFlags::TRANSFER_READ,
+        )
+        .dst_access_mask(
+            vk::AccessFlags::COLOR_ATTACHMENT_WRITE
+                | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE
+                | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ,
+        )];
+    let view_masks = [0b11u32];
+    let correlation = [0b11u32];
+    let mut multiview = vk::RenderPassMultiviewCreateInfo::default()
+        .view_masks(&view_masks)
+        .correlation_masks(&correlation);
+    let mut info = vk::RenderPassCreateInfo::default()
+        .attachments(&attachments)
+        .subpasses(&subpass)
+        .dependencies(&deps);
+    if mode == StereoMode::Multiview {
+        info = info.push_next(&mut multiview);
+    }
+    unsafe { ctx.device.create_render_pass(&info, None) }
+        .map_err(RenderError::vk("vkCreateRenderPass"))
+}
+
+struct PipelineDesc {
+    vert: &'static [u32],
+    frag: &'static [u32],
+    instanced: bool,
+    depth_write: bool,
+    depth_compare: vk::CompareOp,
+    cull: bool,
+}
+
+fn build(
+    ctx: &GpuContext,
+    desc: &PipelineDesc,
+    layout: vk::PipelineLayout,
+    render_pass: vk::RenderPass,
+) -> Result<vk::Pipeline, RenderError> {
+    let d = &ctx.device;
+    let module = |code: &[u32]| {
+        unsafe { d.create_shader_module(&vk::ShaderModuleCreateInfo::default().code(code), None) }
+            .map_err(RenderError::vk("vkCreateShaderModule"))
+    };
+    let vert = module(desc.vert)?;
+    let frag = module(desc.frag).inspect_err(|_| unsafe { d.destroy_shader_module(vert, None) })?;
+    const MAIN: &CStr = c"main";
+    let stages = [
+        vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::VERTEX)
+            .module(vert)
+            .name(MAIN),
+        vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::FRAGMENT)
+            .module(frag)
+            .name(MAIN),
+    ];
+    let vertex_bindings = [
+        vk::VertexInputBindingDescription {
+            binding: 0,
+            stride: 12,
+            input_rate: vk::VertexInputRate::VERTEX,
+        },
+        vk::VertexInputBindingDescription {
+            binding: 1,
+            stride: std::mem::size_of::<PatchInstance>() as u32,
+            input_rate: vk::VertexInputRate::INSTANCE,
+        },
+    ];
+    let attr = |location, binding, format, offset| vk::VertexInputAttributeDescription {
+        location,
+        binding,
+        format,
+        offset,
+    };
+    let f = vk::Format::R32_SFLOAT;
+    let f2 = vk::Format::R32G32_SFLOAT;
+    let u = vk::Format::R32_UINT;
+    let attributes = [
+        attr(0, 0, vk::Format::R32G32B32_SFLOAT, 0),
+        attr(1, 1, f2, 0),
+        attr(2, 1, f, 8),
+        attr(3, 1, u, 12),
+        attr(4, 1, f2, 16),
+        attr(5, 1, f2, 24),
+        attr(6, 1, u, 32),
+        attr(7, 1, f, 36),
+    ];
+    let vertex_input = if desc.instanced {
+        vk::PipelineVertexInputStateCreateInfo::default()
+            .vertex_binding_descriptions(&vertex_bindings)
+            .vertex_attribute_descriptions(&attributes)
+    } else {
+        vk::PipelineVertexInputStateCreateInfo::default()
+    };
+    let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+        .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+    let viewport = vk::PipelineViewportStateCreateInfo::default()
+        .viewport_count(1)
+        .scissor_count(1);
+    // The ocean is not back-face culled: folded crests show triangles from behind, and
+    // culling them would open holes.
+    let raster = vk::PipelineRasterizationStateCreateInfo::default()
+        .polygon_mode(vk::PolygonMode::FILL)
+        .cull_mode(if desc.cull {
+            vk::CullModeFlags::BACK
+        } else {
+            vk::CullModeFlags::NONE
+        })
+        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+        .line_width(1.0);
+    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+        .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+        .depth_test_enable(true)
+        .depth_write_enable(desc.depth_write)
+        .depth_compare_op(desc.depth_compare);
+    let blend_attachment = [vk::PipelineColorBlendAttachmentState::default()
+        .color_write_mask(vk::ColorComponentFlags::RGBA)];
+    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachment);
+    let dynamic = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+    let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic);
+    let info = vk::GraphicsPipelineCreateInfo::default()
+        .stages(&stages)
+        .vertex_input_state(&vertex_input)
+        .input_assembly_state(&assembly)
+        .viewport_state(&viewport)
+        .rasterization_state(&raster)
+        .multisample_state(&multisample)
+        .depth_stencil_state(&depth)
+        .color_blend_state(&blend)
+        .dynamic_state(&dynamic)
+        .layout(layout)
+        .render_pass(render_pass)
+        .subpass(0);
+    let result = unsafe { d.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) };
+    unsafe {
+        d.destroy_shader_module(vert, None);
+        d.destroy_shader_module(frag, None);
+    }
+    result.map(|p| p[0]).map_err(|(_, e)| RenderError::Vk {
+        call: "vkCreateGraphicsPipelines",
+        result: e,
+    })
+}

@@ -1,0 +1,260 @@
+//! The desktop mock-XR: a [`FrameLoop`] without a headset. It creates the Vulkan device itself,
+//! owns a 3-image 2-layer "swapchain", and makes both eye views from a head pose (63 mm IPD,
+//! Quest-3-like asymmetric FOVs) taken from a scripted [`CameraPath`] or, in a window, from the
+//! keyboard and mouse ([`controls`]). Headless it runs on a fixed 72 Hz clock, so the same path
+//! gives the same frames on any machine.
+
+pub mod controls;
+pub mod path;
+
+use ash::vk;
+use glam::{Quat, Vec3};
+
+use super::{FrameLoop, FrameState, XrError};
+use crate::lod::{EyeView, Fov};
+use crate::render::memory::{Image, ImageDesc};
+use crate::render::{ContextOptions, GpuContext, RenderError, TargetImages};
+pub use path::{CameraPath, PathError};
+
+/// Inter-pupillary distance (m).
+pub const IPD: f32 = 0.063;
+
+/// Images in the mock swapchain.
+pub const SWAPCHAIN_IMAGES: usize = 3;
+
+/// The colour format of the mock swapchain (what a Quest runtime offers first).
+pub const COLOUR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
+
+/// Display period of the mock clock (s): 72 Hz, the Quest default.
+pub const PERIOD: f64 = 1.0 / 72.0;
+
+/// Both eyes for a head at `position` with `orientation`: each eye IPD/2 to its side, the
+/// Quest-3-like FOVs of [`Fov::QUEST_EYES`].
+pub fn eye_views(position: Vec3, orientation: Quat) -> [EyeView; 2] {
+    let side = orientation * Vec3::X * (IPD / 2.0);
+    [
+        EyeView {
+            position: position - side,
+            orientation,
+            fov: Fov::QUEST_EYES[0],
+        },
+        EyeView {
+            position: position + side,
+            orientation,
+            fov: Fov::QUEST_EYES[1],
+        },
+    ]
+}
+
+/// Validated per-eye image size.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct EyeSize {
+    width: u32,
+    height: u32,
+}
+
+impl EyeSize {
+    /// The largest side accepted (the Vulkan 1.1 minimum of maxImageDimension2D).
+    pub const MAX: u32 = 4096;
+
+    /// Checks both sides are in [1, 4096].
+    pub fn new(width: u32, height: u32) -> Result<Self, String> {
+        if (1..=Self::MAX).contains(&width) && (1..=Self::MAX).contains(&height) {
+            Ok(Self { width, height })
+        } else {
+            Err(format!(
+                "eye size {width}x{height}: each side must be in [1, {}] pixels",
+                Self::MAX
+            ))
+        }
+    }
+
+    /// Parses `WxH`.
+    pub fn parse(s: &str) -> Result<Self, String> {
+        let (w, h) = s
+            .split_once(['x', 'X'])
+            .ok_or_else(|| format!("size `{s}`: expected WIDTHxHEIGHT, e.g. 640x480"))?;
+        let p = |v: &str| {
+            v.trim()
+                .parse::<u32>()
+                .map_err(|_| format!("size `{s}`: `{v}` is not a whole number of pixels"))
+        };
+        Self::new(p(w)?, p(h)?)
+    }
+
+    /// As a Vulkan extent.
+    pub fn extent(self) -> vk::Extent2D {
+        vk::Extent2D {
+            width: self.width,
+            height: self.height,
+        }
+    }
+}
+
+/// Where head poses come from.
+pub enum PoseSource {
+    /// A scripted path on the mock clock.
+    Path(CameraPath),
+    /// Keyboard and mouse (window mode).
+    Controls(controls::FlyControls),
+}
+
+/// The 3-image, 2-layer colour "swapchain" the mock renders into.
+pub struct MockSwapchain {
+    images: Vec<Image>,
+    raw: Vec<vk::Image>,
+    extent: vk::Extent2D,
+    next: u32,
+}
+
+impl MockSwapchain {
+    /// Creates the images (colour attachment, transfer source for read-back and blits).
+    pub fn new(ctx: &GpuContext, size: EyeSize) -> Result<Self, RenderError> {
+        let extent = size.extent();
+        let mut images = Vec::with_capacity(SWAPCHAIN_IMAGES);
+        for _ in 0..SWAPCHAIN_IMAGES {
+            images.push(Image::new(
+                ctx,
+                ImageDesc {
+                    format: COLOUR_FORMAT,
+                    extent,
+                    layers: 2,
+                    mips: 1,
+                    usage: vk::ImageUsageFlags::COLOR_ATTACHMENT
+                        | vk::ImageUsageFlags::TRANSFER_SRC,
+                    aspect: vk::ImageAspectFlags::COLOR,
+                    transient: false,
+                },
+            )?);
+        }
+        let raw = images.iter().map(|i| i.raw).collect();
+        Ok(Self {
+            images,
+            raw,
+            extent,
+            next: 0,
+        })
+    }
+
+    /// The images, as the renderer takes them.
+    pub fn targets(&self) -> TargetImages<'_> {
+        TargetImages {
+            images: &self.raw,
+            format: COLOUR_FORMAT,
+            extent: self.extent,
+        }
+    }
+
+    /// The next image, round robin.
+    pub fn acquire(&mut self) -> u32 {
+        let i = self.next;
+        self.next = (self.next + 1) % SWAPCHAIN_IMAGES as u32;
+        i
+    }
+
+    /// Image `i`.
+    pub fn image(&self, i: u32) -> vk::Image {
+        self.raw[i as usize]
+    }
+
+    /// Per-eye size.
+    pub fn extent(&self) -> vk::Extent2D {
+        self.extent
+    }
+
+    fn destroy(&mut self, ctx: &GpuContext) {
+        for mut i in self.images.drain(..) {
+            i.destroy(ctx);
+        }
+    }
+}
+
+/// The headless mock: renders `frames` frames along a path on the 72 Hz mock clock.
+pub struct HeadlessXr {
+    // Declared before `ctx`, destroyed explicitly in `Drop` while the device lives.
+    swapchain: MockSwapchain,
+    ctx: GpuContext,
+    path: CameraPath,
+    frames: u64,
+    frame: u64,
+    acquired: Option<u32>,
+}
+
+impl HeadlessXr {
+    /// Creates the device (validation per `opts`) and the swapchain for `frames` frames.
+    pub fn new(
+        opts: &ContextOptions,
+        size: EyeSize,
+        path: CameraPath,
+        frames: u64,
+    ) -> Result<Self, XrError> {
+        let ctx = GpuContext::new(opts)?;
+        let swapchain = MockSwapchain::new(&ctx, size)?;
+        Ok(Self {
+            swapchain,
+            ctx,
+            path,
+            frames,
+            frame: 0,
+            acquired: None,
+        })
+    }
+
+    /// The swapchain (read-back of the last image).
+    pub fn swapchain(&self) -> &MockSwapchain {
+        &self.swapchain
+    }
+
+    /// The image acquired this frame, if any.
+    pub fn acquired(&self) -> Option<u32> {
+        self.acquired
+    }
+}
+
+impl FrameLoop for HeadlessXr {
+    fn gpu(&self) -> &GpuContext {
+        &self.ctx
+    }
+
+    fn targets(&self) -> TargetImages<'_> {
+        self.swapchain.targets()
+    }
+
+    fn begin_frame(&mut self) -> Result<Option<FrameState>, XrError> {
+        if self.frame >= self.frames {
+            return Ok(None);
+        }
+        let t = self.frame as f64 * PERIOD;
+        let (position, orientation) = self.path.pose(t);
+        let state = FrameState {
+            index: self.frame,
+            predicted_display_time: t,
+            period: PERIOD,
+            views: eye_views(position, orientation),
+            should_render: true,
+        };
+        self.frame += 1;
+        Ok(Some(state))
+    }
+
+    fn acquire_image(&mut self) -> Result<u32, XrError> {
+        let i = self.swapchain.acquire();
+        self.acquired = Some(i);
+        Ok(i)
+    }
+
+    fn release_image(&mut self) -> Result<(), XrError> {
+        Ok(())
+    }
+
+    fn end_frame(&mut self, _frame: &FrameState) -> Result<(), XrError> {
+        Ok(())
+    }
+}
+
+impl Drop for HeadlessXr {
+    fn drop(&mut self) {
+        self.ctx.wait_idle();
+        self.swapchain.destroy(&self.ctx);
+    }
+}

@@ -1,0 +1,69 @@
+//! The XR frame loop: one interface ([`FrameLoop`]) and its backends. The desktop mock
+//! ([`mock`]) owns its own 2-layer "swapchain" and makes head poses from the keyboard and mouse
+//! or a scripted camera path; the OpenXR backend (issue 5) will implement the same interface.
+//!
+//! A frame: [`FrameLoop::begin_frame`] (predicted display time and both eye views),
+//! [`FrameLoop::acquire_image`], the renderer records and submits into that image,
+//! [`FrameLoop::release_image`], [`FrameLoop::end_frame`].
+
+pub mod mock;
+
+use crate::lod::EyeView;
+use crate::render::{GpuContext, RenderError, TargetImages};
+
+/// What a frame is rendered for.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameState {
+    /// Frame number from 0.
+    pub index: u64,
+    /// When the frame will be shown (s since the session started): the simulation time.
+    pub predicted_display_time: f64,
+    /// Time until the next frame's display (s).
+    pub period: f64,
+    /// Left and right eye.
+    pub views: [EyeView; 2],
+    /// False when the runtime wants the frame skipped (hidden, not focused).
+    pub should_render: bool,
+}
+
+/// Why the frame loop stopped with an error.
+#[derive(Debug)]
+pub enum XrError {
+    /// The Vulkan side failed.
+    Render(RenderError),
+    /// A pose source or window failed.
+    Backend(String),
+}
+
+impl std::fmt::Display for XrError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            XrError::Render(e) => e.fmt(f),
+            XrError::Backend(e) => f.write_str(e),
+        }
+    }
+}
+
+impl std::error::Error for XrError {}
+
+impl From<RenderError> for XrError {
+    fn from(e: RenderError) -> Self {
+        XrError::Render(e)
+    }
+}
+
+/// The frame loop every XR backend offers.
+pub trait FrameLoop {
+    /// The Vulkan device the backend created (an OpenXR runtime chooses it).
+    fn gpu(&self) -> &GpuContext;
+    /// The 2-layer colour images frames are rendered into.
+    fn targets(&self) -> TargetImages<'_>;
+    /// Waits for the next frame; `None` when the session is over (window closed, path done).
+    fn begin_frame(&mut self) -> Result<Option<FrameState>, XrError>;
+    /// The target image index to render this frame into.
+    fn acquire_image(&mut self) -> Result<u32, XrError>;
+    /// Hands the image back; its rendering commands have been submitted.
+    fn release_image(&mut self) -> Result<(), XrError>;
+    /// Shows the frame (presents the window, or nothing headless).
+    fn end_frame(&mut self, frame: &FrameState) -> Result<(), XrError>;
+}
