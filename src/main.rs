@@ -394,16 +394,12 @@ fn headless_cmd(a: HeadlessArgs) -> CmdResult {
         opts.renderer.stereo.name(),
         xr.gpu().device_name
     );
-    let out = a.out.clone();
-    let mut saved = Vec::new();
-    let report = app::run(&mut xr, &opts, &mut |c| {
-        for (eye, pixels) in ["left", "right"].iter().zip(c.eyes) {
-            let file = out.join(format!("frame_{:05}_{eye}.png", c.frame));
-            app::save_png(&file, c.width, c.height, pixels)?;
-            saved.push(file);
-        }
-        Ok(())
-    })?;
+    let mut pngs = PngWriter {
+        dir: a.out.clone(),
+        saved: Vec::new(),
+    };
+    let report = app::run(&mut xr, &opts, &mut pngs)?;
+    let saved = pngs.saved;
     let json = format!(
         "{{\n\"device\": \"{}\",\n\"frames\": {},\n\"stereo\": \"{}\",\n\"max_draws\": {},\n\"timings_ms\": {}}}\n",
         report.device.replace('"', "'"),
@@ -423,6 +419,23 @@ fn headless_cmd(a: HeadlessArgs) -> CmdResult {
         return Err(format!("{} Vulkan validation errors", report.validation_errors).into());
     }
     Ok(())
+}
+
+/// Saves captured frames as `frame_NNNNN_{left,right}.png`.
+struct PngWriter {
+    dir: PathBuf,
+    saved: Vec<PathBuf>,
+}
+
+impl app::RunHooks for PngWriter {
+    fn capture(&mut self, c: &app::Capture<'_>) -> Result<(), app::AppError> {
+        for (eye, pixels) in ["left", "right"].iter().zip(c.eyes) {
+            let file = self.dir.join(format!("frame_{:05}_{eye}.png", c.frame));
+            app::save_png(&file, c.width, c.height, pixels)?;
+            self.saved.push(file);
+        }
+        Ok(())
+    }
 }
 
 fn print_times(t: &FrameTimes) {

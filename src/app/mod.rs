@@ -110,12 +110,28 @@ pub struct RunReport {
     pub device: String,
 }
 
-/// Runs the frame loop until the backend ends the session; calls `on_capture` for the frames
-/// in `opts.capture` (after their rendering finished) and `on_frame` after every frame.
+/// What a caller of [`run`] hears about while frames go by.
+pub trait RunHooks {
+    /// A frame listed in [`RunOptions::capture`] finished rendering.
+    fn capture(&mut self, _capture: &Capture<'_>) -> Result<(), AppError> {
+        Ok(())
+    }
+
+    /// A frame ended (after [`FrameLoop::end_frame`]). Tests count allocations here.
+    fn frame_done(&mut self, _frame: &FrameState) {}
+}
+
+/// Hooks that do nothing.
+pub struct NoHooks;
+
+impl RunHooks for NoHooks {}
+
+/// Runs the frame loop until the backend ends the session, telling `hooks` about captures
+/// (frames in `opts.capture`, after their rendering finished) and every finished frame.
 pub fn run(
     xr: &mut dyn FrameLoop,
     opts: &RunOptions,
-    on_capture: &mut dyn FnMut(&Capture<'_>) -> Result<(), AppError>,
+    hooks: &mut dyn RunHooks,
 ) -> Result<RunReport, AppError> {
     let mut lod = OceanLod::new(opts.lod);
     let mut sim = Simulation::new(opts.ocean.clone(), opts.threads)?;
@@ -134,7 +150,7 @@ pub fn run(
         &mut sim,
         &mut renderer,
         &mut readback,
-        on_capture,
+        hooks,
     );
     xr.gpu().wait_idle();
     renderer.destroy(xr.gpu());
@@ -154,7 +170,7 @@ fn frames(
     sim: &mut Simulation,
     renderer: &mut OceanRenderer,
     readback: &mut Option<Readback>,
-    on_capture: &mut dyn FnMut(&Capture<'_>) -> Result<(), AppError>,
+    hooks: &mut dyn RunHooks,
 ) -> Result<RunReport, AppError> {
     let mut times = FrameTimes::with_capacity(16_384);
     let mut max_draws = 0;
@@ -206,7 +222,7 @@ fn frames(
                 let extent = xr.targets().extent;
                 let image_handle = xr.targets().images[image as usize];
                 let eyes = rb.read(xr.gpu(), image_handle)?;
-                on_capture(&Capture {
+                hooks.capture(&Capture {
                     frame: frame.index,
                     state: &frame,
                     width: extent.width,
@@ -216,6 +232,7 @@ fn frames(
             }
         }
         xr.end_frame(&frame)?;
+        hooks.frame_done(&frame);
         count += 1;
         if let Some(r) = report {
             max_draws = max_draws.max(r.draws);

@@ -91,6 +91,9 @@ pub struct GpuContext {
     pub memory: vk::PhysicalDeviceMemoryProperties,
     /// Device name, for logs and reports.
     pub device_name: String,
+    /// The "GPU" is the CPU (Mesa lavapipe): rendering competes with the simulation for cores,
+    /// and `vkGetQueryPoolResults` idles the whole device there.
+    pub cpu_device: bool,
     /// Validation messages, when the layer is loaded.
     pub validation: Option<Arc<ValidationLog>>,
     debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
@@ -239,6 +242,7 @@ impl GpuContext {
             timestamp_period,
             memory,
             device_name,
+            cpu_device: props.device_type == vk::PhysicalDeviceType::CPU,
             validation: log,
             debug,
         })

@@ -318,7 +318,9 @@ impl OceanRenderer {
             .map_err(RenderError::vk("vkWaitForFences"))?;
         let wait = t0.elapsed();
         let t1 = Instant::now();
-        let gpu_pass = if slot.submitted {
+        // The slot's fence has signalled, so its timestamps are ready (on a CPU device they
+        // are read before the submit below instead).
+        let mut gpu_pass = if slot.submitted && !ctx.cpu_device {
             read_timestamps(ctx, slot.queries)
         } else {
             None
@@ -423,6 +425,19 @@ impl OceanRenderer {
                 .map_err(RenderError::vk("vkEndCommandBuffer"))?;
         }
         let record = t1.elapsed();
+        let mut wait = wait;
+        if ctx.cpu_device {
+            // lavapipe idles the device in vkGetQueryPoolResults. Reading the previous frame's
+            // timestamps here, after recording this one, waits only for work that this submit
+            // would queue behind anyway; at the top of the frame it would also stall recording.
+            let n = self.slots.len();
+            let prev = &self.slots[(slot_index + n - 1) % n];
+            if prev.submitted {
+                let w = Instant::now();
+                gpu_pass = read_timestamps(ctx, prev.queries);
+                wait += w.elapsed();
+            }
+        }
         let t2 = Instant::now();
         let cmds = [cmd];
         let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
