@@ -1,7 +1,7 @@
 //! Compiles the GLSL in `shaders/` to SPIR-V (Vulkan 1.1) with glslang's `glslangValidator`
 //! (Debian `glslang-tools`, installed by `cargo xtask test`). Each `*.vert`/`*.frag` becomes
-//! `$OUT_DIR/<name>.spv`; the vertex shaders that pick the eye are built twice, with and without
-//! `MULTIVIEW`, for the multiview pass and the two-pass fallback.
+//! `$OUT_DIR/<name>.spv`; the vertex shader, which picks the eye, is built twice, with and
+//! without `MULTIVIEW`, for the multiview pass and the two-pass fallback.
 
 use std::env;
 use std::path::{Path, PathBuf};
@@ -12,9 +12,6 @@ const SHADERS: &[(&str, &str, &[&str])] = &[
     ("ocean.vert", "ocean_mv.vert", &["MULTIVIEW=1"]),
     ("ocean.vert", "ocean.vert", &[]),
     ("ocean.frag", "ocean.frag", &[]),
-    ("sky.vert", "sky_mv.vert", &["MULTIVIEW=1"]),
-    ("sky.vert", "sky.vert", &[]),
-    ("sky.frag", "sky.frag", &[]),
 ];
 
 fn main() {

@@ -10,9 +10,16 @@ layout(set = 0, binding = 2) uniform sampler2DArray u_normal_foam;
 layout(location = 0) in vec3 v_world;
 layout(location = 1) in vec2 v_xz;
 layout(location = 2) flat in vec3 v_eye;
+layout(location = 3) flat in uint v_sky;
 layout(location = 0) out vec4 o_colour;
 
 void main() {
+    if (v_sky != 0u) {
+        vec3 d = normalize(v_world);
+        vec3 c = d.y >= 0.0 ? sky(d) : fog_colour(d);
+        o_colour = vec4(g.params.w > 0.5 ? vec3(1.0, 0.0, 1.0) : c, 1.0);
+        return;
+    }
     vec3 view = v_eye - v_world;
     float dist = length(view);
     vec3 v = view / max(dist, 1e-4);

@@ -1,14 +1,17 @@
 #version 450
-// The ocean mesh: quadtree patches (instanced, one draw per stitch configuration) and the
-// horizon skirt, geomorphed exactly as `lod::morph` (the reference the LOD's watertightness
-// tests run) and displaced by the cascades' RGBA16F (Dx, h, Dz, J) textures.
+// The whole pass in one pipeline: the ocean mesh, i.e. quadtree patches (instanced, one draw
+// per stitch configuration) and the horizon skirt, geomorphed exactly as `lod::morph` (the
+// reference the LOD's watertightness tests run) and displaced by the cascades' RGBA16F
+// (Dx, h, Dz, J) textures; and the sky, a full-screen triangle just in front of the far plane
+// drawn last, so it fills only pixels no ocean covers. (A separate sky pipeline rendered only
+// into the first view with lavapipe's multiview.)
 #ifdef MULTIVIEW
 #extension GL_EXT_multiview : require
 #endif
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 
-// eye: the eye of this pass (two-pass fallback only); mode: 0 = patch, 1 = skirt;
+// eye: the eye of this pass (two-pass fallback only); mode: 0 = patch, 1 = skirt, 2 = sky;
 // inner_count: skirt vertices on its inner edge; grid_v: V, cells per patch side.
 layout(push_constant) uniform Push {
     uint eye;
@@ -33,6 +36,12 @@ layout(location = 7) in float i_vertex_spacing;
 layout(location = 0) out vec3 v_world;
 layout(location = 1) out vec2 v_xz;
 layout(location = 2) flat out vec3 v_eye;
+// 1 for the sky: v_world is then a view direction.
+layout(location = 3) flat out uint v_sky;
+
+// Depth of the sky (reversed Z, depth = near / distance): 500 km away, behind the farthest
+// skirt vertex (10 S <= 82 km), in front of the cleared far plane so the GREATER test passes.
+const float SKY_DEPTH = 1e-7;
 
 const uint EAST = 1u;
 const uint NORTH = 2u;
@@ -51,12 +60,32 @@ vec2 morph_offset(vec2 p, float h, float k) {
     return odd * (h * k);
 }
 
+vec4 ocean_vertex(uint eye);
+
 void main() {
 #ifdef MULTIVIEW
     uint eye = gl_ViewIndex;
 #else
     uint eye = pc.eye;
 #endif
+    v_eye = g.eye_pos[eye].xyz;
+    if (pc.mode == 2u) {
+        // A quad exactly covering the viewport (vertices 0-3): nothing to clip. (llvmpipe's
+        // clipper dropped the view's layer of a clipped full-screen triangle.)
+        vec2 ndc = vec2(float(gl_VertexIndex & 1), float((gl_VertexIndex >> 1) & 1)) * 2.0 - 1.0;
+        vec4 w = g.sky_from_clip[eye] * vec4(ndc, 1.0, 1.0);
+        v_world = w.xyz / w.w;
+        v_xz = vec2(0.0);
+        v_sky = 1u;
+        gl_Position = vec4(ndc, SKY_DEPTH, 1.0);
+    } else {
+        v_sky = 0u;
+        gl_Position = ocean_vertex(eye);
+    }
+}
+
+// Position of a patch or skirt vertex; also writes v_world and v_xz.
+vec4 ocean_vertex(uint eye) {
     vec2 p0;
     vec2 p;
     float d;
@@ -98,6 +127,5 @@ void main() {
     vec3 world = vec3(p.x, 0.0, p.y) + disp;
     v_world = world;
     v_xz = p;
-    v_eye = g.eye_pos[eye].xyz;
-    gl_Position = g.view_proj[eye] * vec4(world, 1.0);
+    return g.view_proj[eye] * vec4(world, 1.0);
 }

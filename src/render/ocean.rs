@@ -123,6 +123,7 @@ struct MeshLayout {
     skirt_index_count: Vec<u32>,
     skirt_inner: Vec<u32>,
     boundary_level: u32,
+    sky_first_index: u32,
 }
 
 /// Draws the ocean and the sky for both eyes.
@@ -637,8 +638,17 @@ impl OceanRenderer {
                 skirt_instance,
             );
             draws += 1;
-            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.sky);
-            d.cmd_draw(cmd, 3, 1, 0, 0);
+            // The sky: mode 2 of the same pipeline, vertices from gl_VertexIndex (indexed with
+            // 0, 1, 2: lavapipe's multiview drew a non-indexed draw into the first view only).
+            push.mode = 2;
+            d.cmd_push_constants(
+                cmd,
+                p.layout,
+                vk::ShaderStageFlags::VERTEX,
+                0,
+                bytemuck::bytes_of(&push),
+            );
+            d.cmd_draw_indexed(cmd, 6, 1, self.mesh.sky_first_index, 0, 0);
             draws += 1;
             d.cmd_end_render_pass(cmd);
         }
@@ -960,6 +970,7 @@ fn upload_meshes(
         skirt_index_count: Vec::new(),
         skirt_inner: Vec::new(),
         boundary_level: st.boundary_level(),
+        sky_first_index: 0,
     };
     for k in 0..16u8 {
         let set = mesh.indices(StitchFlags::from_bits(k));
@@ -976,6 +987,8 @@ fn upload_meshes(
         verts.extend_from_slice(skirt.positions());
         idx.extend_from_slice(skirt.indices());
     }
+    layout.sky_first_index = idx.len() as u32;
+    idx.extend_from_slice(&[0, 1, 2, 2, 1, 3]);
     if idx.len() % 2 == 1 {
         idx.push(0);
     }

@@ -1,5 +1,5 @@
 //! The stereo render pass (multiview view mask 0b11, or one layer per pass for the fallback)
-//! and the ocean and sky pipelines built against it.
+//! and the pipeline built against it that draws the ocean and the sky.
 
 use std::ffi::CStr;
 
@@ -38,7 +38,7 @@ pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 pub struct Push {
     /// The eye of this pass (two-pass only).
     pub eye: u32,
-    /// 0: quadtree patches; 1: the skirt.
+    /// 0: quadtree patches; 1: the skirt; 2: the sky.
     pub mode: u32,
     /// Skirt vertices on its inner edge (they morph).
     pub inner_count: u32,
@@ -57,10 +57,8 @@ pub struct Pipelines {
     pub set_layout: vk::DescriptorSetLayout,
     /// The layout all pipelines share.
     pub layout: vk::PipelineLayout,
-    /// The ocean (patches and skirt).
+    /// The one pipeline of the pass: patches, skirt and sky (push constant `mode`).
     pub ocean: vk::Pipeline,
-    /// The sky (full-screen triangle at the far plane).
-    pub sky: vk::Pipeline,
 }
 
 impl Pipelines {
@@ -114,48 +112,17 @@ impl Pipelines {
             )
         }
         .map_err(RenderError::vk("vkCreatePipelineLayout"))?;
-        let mv = mode == StereoMode::Multiview;
-        let ocean = build(
-            ctx,
-            &PipelineDesc {
-                vert: if mv {
-                    shaders::OCEAN_VERT_MULTIVIEW
-                } else {
-                    shaders::OCEAN_VERT
-                },
-                frag: shaders::OCEAN_FRAG,
-                instanced: true,
-                depth_write: true,
-                depth_compare: vk::CompareOp::GREATER,
-                cull: false,
-            },
-            layout,
-            render_pass,
-        )?;
-        let sky = build(
-            ctx,
-            &PipelineDesc {
-                vert: if mv {
-                    shaders::SKY_VERT_MULTIVIEW
-                } else {
-                    shaders::SKY_VERT
-                },
-                frag: shaders::SKY_FRAG,
-                instanced: false,
-                depth_write: false,
-                depth_compare: vk::CompareOp::GREATER_OR_EQUAL,
-                cull: false,
-            },
-            layout,
-            render_pass,
-        )?;
+        let vert = match mode {
+            StereoMode::Multiview => shaders::OCEAN_VERT_MULTIVIEW,
+            StereoMode::TwoPass => shaders::OCEAN_VERT,
+        };
+        let ocean = build(ctx, vert, shaders::OCEAN_FRAG, layout, render_pass)?;
         Ok(Self {
             mode,
             render_pass,
             set_layout,
             layout,
             ocean,
-            sky,
         })
     }
 
@@ -164,7 +131,6 @@ impl Pipelines {
         let d = &ctx.device;
         unsafe {
             d.destroy_pipeline(self.ocean, None);
-            d.destroy_pipeline(self.sky, None);
             d.destroy_pipeline_layout(self.layout, None);
             d.destroy_descriptor_set_layout(self.set_layout, None);
             d.destroy_render_pass(self.render_pass, None);
@@ -249,18 +215,10 @@ fn render_pass(
         .map_err(RenderError::vk("vkCreateRenderPass"))
 }
 
-struct PipelineDesc {
-    vert: &'static [u32],
-    frag: &'static [u32],
-    instanced: bool,
-    depth_write: bool,
-    depth_compare: vk::CompareOp,
-    cull: bool,
-}
-
 fn build(
     ctx: &GpuContext,
-    desc: &PipelineDesc,
+    vert: &[u32],
+    frag: &[u32],
     layout: vk::PipelineLayout,
     render_pass: vk::RenderPass,
 ) -> Result<vk::Pipeline, RenderError> {
@@ -269,8 +227,8 @@ fn build(
         unsafe { d.create_shader_module(&vk::ShaderModuleCreateInfo::default().code(code), None) }
             .map_err(RenderError::vk("vkCreateShaderModule"))
     };
-    let vert = module(desc.vert)?;
-    let frag = module(desc.frag).inspect_err(|_| unsafe { d.destroy_shader_module(vert, None) })?;
+    let vert = module(vert)?;
+    let frag = module(frag).inspect_err(|_| unsafe { d.destroy_shader_module(vert, None) })?;
     const MAIN: &CStr = c"main";
     let stages = [
         vk::PipelineShaderStageCreateInfo::default()
@@ -313,13 +271,9 @@ fn build(
         attr(6, 1, u, 32),
         attr(7, 1, f, 36),
     ];
-    let vertex_input = if desc.instanced {
-        vk::PipelineVertexInputStateCreateInfo::default()
-            .vertex_binding_descriptions(&vertex_bindings)
-            .vertex_attribute_descriptions(&attributes)
-    } else {
-        vk::PipelineVertexInputStateCreateInfo::default()
-    };
+    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+        .vertex_binding_descriptions(&vertex_bindings)
+        .vertex_attribute_descriptions(&attributes);
     let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
         .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
     let viewport = vk::PipelineViewportStateCreateInfo::default()
@@ -329,19 +283,15 @@ fn build(
     // culling them would open holes.
     let raster = vk::PipelineRasterizationStateCreateInfo::default()
         .polygon_mode(vk::PolygonMode::FILL)
-        .cull_mode(if desc.cull {
-            vk::CullModeFlags::BACK
-        } else {
-            vk::CullModeFlags::NONE
-        })
+        .cull_mode(vk::CullModeFlags::NONE)
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);
     let multisample = vk::PipelineMultisampleStateCreateInfo::default()
         .rasterization_samples(vk::SampleCountFlags::TYPE_1);
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(true)
-        .depth_write_enable(desc.depth_write)
-        .depth_compare_op(desc.depth_compare);
+        .depth_write_enable(true)
+        .depth_compare_op(vk::CompareOp::GREATER);
     let blend_attachment = [vk::PipelineColorBlendAttachmentState::default()
         .color_write_mask(vk::ColorComponentFlags::RGBA)];
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachment);

@@ -22,19 +22,10 @@ pub const OCEAN_VERT_MULTIVIEW: &[u32] = spirv!("ocean_mv.vert");
 pub const OCEAN_VERT: &[u32] = spirv!("ocean.vert");
 /// Ocean fragment shader.
 pub const OCEAN_FRAG: &[u32] = spirv!("ocean.frag");
-/// Sky vertex shader, multiview.
-pub const SKY_VERT_MULTIVIEW: &[u32] = spirv!("sky_mv.vert");
-/// Sky vertex shader, eye from a push constant.
-pub const SKY_VERT: &[u32] = spirv!("sky.vert");
-/// Sky fragment shader.
-pub const SKY_FRAG: &[u32] = spirv!("sky.frag");
 
 /// Every module with its name, for validation with `spirv-val`.
-pub const ALL: [(&str, &[u32]); 6] = [
+pub const ALL: [(&str, &[u32]); 3] = [
     ("ocean_mv.vert", OCEAN_VERT_MULTIVIEW),
     ("ocean.vert", OCEAN_VERT),
     ("ocean.frag", OCEAN_FRAG),
-    ("sky_mv.vert", SKY_VERT_MULTIVIEW),
-    ("sky.vert", SKY_VERT),
-    ("sky.frag", SKY_FRAG),
 ];

@@ -2,6 +2,8 @@
 //! it needs).
 #![allow(dead_code)]
 
+pub mod gpu;
+
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::PathBuf;
 use std::process::{Command, Output};
@@ -44,6 +46,19 @@ pub fn count_allocations<R>(f: impl FnOnce() -> R) -> (R, usize) {
     let r = f();
     COUNTING.store(false, Ordering::SeqCst);
     (r, ALLOCATIONS.load(Ordering::SeqCst))
+}
+
+/// Turns counting on (from zero) or off, for spans that a closure cannot wrap (frame hooks).
+pub fn set_counting(on: bool) {
+    if on {
+        ALLOCATIONS.store(0, Ordering::SeqCst);
+    }
+    COUNTING.store(on, Ordering::SeqCst);
+}
+
+/// Allocations counted since counting was last turned on.
+pub fn allocations() -> usize {
+    ALLOCATIONS.load(Ordering::SeqCst)
 }
 
 /// Runs the `vr-ocean` binary with `args`.
