@@ -295,7 +295,7 @@ struct HeadlessArgs {
     #[arg(long, default_value_t = 144)]
     frames: u64,
     /// Per-eye image size WIDTHxHEIGHT.
-    #[arg(long, default_value = "640x640")]
+    #[arg(long, allow_hyphen_values = true, default_value = "640x640")]
     size: String,
     /// Camera path file (format in `src/xr/mock/path.rs` and the README); default: standing
     /// 1.7 m above the sea, looking slightly down at the horizon.

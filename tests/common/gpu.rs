@@ -80,10 +80,23 @@ pub fn render(
     w: u32,
     h: u32,
 ) -> (RunReport, Vec<Frame>) {
+    let mut hooks = Collect(Vec::new());
+    let report = render_with(opts, path, frames, w, h, &mut hooks);
+    (report, hooks.0)
+}
+
+/// [`render`] with the caller's hooks (captures are the hooks' business).
+pub fn render_with(
+    opts: &RunOptions,
+    path: CameraPath,
+    frames: u64,
+    w: u32,
+    h: u32,
+    hooks: &mut dyn RunHooks,
+) -> RunReport {
     let mut xr = HeadlessXr::new(&validated(), EyeSize::new(w, h).unwrap(), path, frames)
         .unwrap_or_else(|e| panic!("cannot start headless Vulkan (lavapipe): {e}"));
-    let mut hooks = Collect(Vec::new());
-    let report = app::run(&mut xr, opts, &mut hooks).unwrap_or_else(|e| panic!("run: {e}"));
+    let report = app::run(&mut xr, opts, hooks).unwrap_or_else(|e| panic!("run: {e}"));
     let log = xr_validation(&xr);
     drop(xr);
     assert_eq!(
@@ -95,10 +108,10 @@ pub fn render(
     assert_eq!(
         log.errors(),
         0,
-        "validation errors at teardown: {:?}",
+        "validation errors at teardown (leaked objects are errors): {:?}",
         log.messages()
     );
-    (report, hooks.0)
+    report
 }
 
 fn xr_validation(xr: &HeadlessXr) -> std::sync::Arc<vr_ocean::render::ValidationLog> {
