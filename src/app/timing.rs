@@ -84,6 +84,21 @@ impl FrameTimes {
         self.count[i] += 1;
     }
 
+    /// The samples of timing `t` (ms), oldest first until the buffer wraps.
+    pub fn samples(&self, t: Timing) -> &[f64] {
+        &self.samples[t as usize]
+    }
+
+    /// Adds every sample of `other` (e.g. several runs of one scenario).
+    pub fn merge(&mut self, other: &FrameTimes) {
+        use Timing::*;
+        for t in [FrameTotal, SimStep, SimWait, Lod, Record, Submit, GpuPass] {
+            for &ms in other.samples(t) {
+                self.push(t, std::time::Duration::from_secs_f64(ms / 1e3));
+            }
+        }
+    }
+
     /// Percentiles of timing `t` (nearest rank); all zero without samples.
     pub fn percentiles(&self, t: Timing) -> Percentiles {
         let mut v = self.samples[t as usize].clone();

@@ -78,9 +78,27 @@ const STEPS: &[Step] = &[
     },
     Step {
         name: "test (host)",
-        header: "tests on the host",
-        cargo_args: &["test", "--workspace"],
+        header: "tests on the host (Vulkan tests on lavapipe with the Khronos validation layer)",
+        cargo_args: &[
+            "test",
+            "--workspace",
+            "--",
+            "--skip",
+            "frame_times_on_lavapipe",
+        ],
         slow: false,
+    },
+    Step {
+        name: "frame times",
+        header: "frame-time tests on lavapipe: table below, target/frame-times.json",
+        cargo_args: &[
+            "test",
+            "--test",
+            "frame_times",
+            "--",
+            "--nocapture",
+        ],
+        slow: true,
     },
     Step {
         name: "test (aarch64/qemu)",
