@@ -8,24 +8,34 @@ use super::stitch::StitchFlags;
 /// Per-patch instance data, 40 bytes, read by the patch vertex shader (eq. 70: the patch is the
 /// unit grid scaled by `size` and moved to `centre`; no rotation).
 ///
-/// The vertex shader computes, for unit vertex (u, 0, v) ∈ [−0.5, 0.5]² (eq. 67) with grid
-/// index (i, j) = round((u + 0.5)·V, (v + 0.5)·V) and h = `size` / V:
+/// The vertex shader computes, for grid vertex (i, j) ∈ {0..V}² (gl_VertexIndex = i + j·(V+1),
+/// unit position (u, v) = (i/V − 0.5, j/V − 0.5), eq. 67-68) and h = `size` / V:
 ///
 /// ```text
-/// p   = centre + size · (u, v)                     // world xz, undisplaced
-/// d   = length(vec3(p.x, 0, p.y) − camera)         // camera: the viewer the LOD used
-/// p  -= morph_offset(p, h,     k(d, morph))        // odd level-l vertices slide onto even ones
-/// if vertex is on an edge whose `stitch` bit is set (i = V: E, j = V: N, i = 0: W, j = 0: S):
-///     p -= morph_offset(p₀, 2h, k(d, coarse_morph)) // follow the coarser neighbour's own morph
-/// k(d, r)              = clamp((d − r.x) / (r.y − r.x), 0, 1)
-/// morph_offset(p, h, k) = select(0, h·k, odd(round(p / h))) per axis (x and z separately)
+/// p₀  = centre + size · (u, v)                      // world xz, undisplaced
+/// d   = length(vec3(p₀.x, 0, p₀.y) − camera)        // camera: the viewer the LOD used
+/// p   = p₀ + h · k(d, morph) · step(i, j)           // odd vertices slide onto the parent's
+/// if the vertex is on an edge whose `stitch` bit is set (i = V: E, j = V: N, i = 0: W, j = 0: S):
+///     p += 2h · k(d, coarse_morph) · step(i >> 1, j >> 1)   // follow the coarser neighbour
+/// k(d, r)    = clamp((d − r.x) / (r.y − r.x), 0, 1)
+/// step(i, j) = (0, 0)   if i, j even
+///              (−1, 0)  if i odd, j even
+///              (0, −1)  if i even, j odd
+///              (−1, −1) if i, j odd and (i + j) & 3 == 2
+///              (−1, +1) if i, j odd and (i + j) & 3 == 0
 /// ```
 ///
-/// where p₀ is the undisplaced position (world lattice coordinates round(p/h) are integers
-/// because the grid origin is snapped to S/V). Then the ocean displacement is sampled at the
-/// morphed p. Both patches on either side of every edge compute identical positions for every
-/// shared vertex, so the morph never opens a crack ([`crate::lod::morph`] is the reference
-/// implementation the watertightness tests run).
+/// then samples the ocean displacement at p. The grid indices have the parities of the world
+/// lattice (the grid origin snaps to S/V), so both patches on either side of every edge move
+/// every shared vertex identically and the morph never opens a crack; at k = 1 each triangle
+/// collapses onto one of the parent patch's triangles (step follows the parent's fan
+/// diagonals), and the quadtree swaps a patch for its parent only where k = 1, so LOD changes
+/// do not pop ([`crate::lod::morph`] is the reference implementation the tests run).
+///
+/// The skirt (its instance has `size` = 1, positions in metres relative to `centre`) moves
+/// only its inner-edge vertices (gl_VertexIndex < `SkirtMesh::inner_vertex_count`), by the
+/// stitched-edge line with H = 2·`vertex_spacing` for 2h and (i, j) = round(pos.xz / H)
+/// (signed: take the parities with `& 1` and `& 3`): p = p₀ + H · k(d, coarse_morph) · step(i, j).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct PatchInstance {

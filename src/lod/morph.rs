@@ -1,15 +1,18 @@
 //! Geomorphing (CDLOD-style): the reference implementation of the vertex-shader formula
 //! documented on [`PatchInstance`], used by the tests to prove the morph keeps the surface
-//! watertight.
+//! watertight and free of pops.
 //!
-//! A level-l vertex with an odd world lattice coordinate (in units of its spacing h) slides by
-//! h·k toward the even neighbour below it, so at k = 1 a level-l patch has exactly the shape of
-//! its level-(l−1) parent and the LOD switch does not pop. k rises with the distance to the
-//! viewer over [`LodSettings::morph_range`](super::LodSettings::morph_range). Vertices on a
-//! stitched edge are even at level l and follow the coarser neighbour's morph instead, so both
-//! sides of every edge move together.
+//! Each odd vertex of a level-l patch (odd grid index, spacing h) slides by h·k onto a vertex
+//! of the level-(l−1) lattice ([`morph_step`]), k rising with the vertex's distance to the
+//! viewer over [`LodSettings::morph_range`](super::LodSettings::morph_range). At k = 1 the
+//! patch's triangles collapse exactly onto its parent's triangles (the fan diagonals included),
+//! each vertex carrying a parent vertex's position, so the surface, displacement sampled at the
+//! morphed positions, is the parent's; and k is 1 wherever the quadtree may swap a patch for
+//! its parent, 0 wherever it may swap a parent for its children, so the swap does not pop.
+//! Vertices on a stitched edge follow the coarser neighbour's own morph instead, so both sides
+//! of every edge move together.
 
-use glam::{Vec2, Vec3};
+use glam::{IVec2, Vec2, Vec3};
 
 use super::batch::PatchInstance;
 use super::stitch::StitchFlags;
@@ -19,17 +22,22 @@ pub fn morph_factor(range: [f32; 2], distance: f32) -> f32 {
     ((distance - range[0]) / (range[1] - range[0])).clamp(0.0, 1.0)
 }
 
-/// The offset subtracted from world xz `p` by the morph of a lattice of spacing `h`: h·k on
-/// each axis whose lattice coordinate round(p / h) is odd.
-pub fn morph_offset(p: Vec2, h: f32, k: f32) -> Vec2 {
-    let odd = |c: f32| {
-        if ((c / h).round() as i64).rem_euclid(2) == 1 {
-            h * k
-        } else {
-            0.0
-        }
-    };
-    Vec2::new(odd(p.x), odd(p.y))
+/// Where lattice vertex (i, j) goes at full morph, in units of the spacing: (0, 0) when both
+/// are even (it is a coarse vertex); −1 along an odd axis when the other is even (onto the
+/// lower end of the coarse edge it halves); and when both are odd (the centre of a coarse
+/// square), along that square's diagonal in the coarse fan triangulation of eq. 65-66:
+/// (−1, −1) when (i + j) mod 4 = 2, (−1, +1) when (i + j) mod 4 = 0.
+///
+/// (i, j) count from the grid corner (or centre: same parities), which is how the patch grid
+/// indices count; negative values (the skirt) use Euclidean parity, as `& 1`, `& 3` do.
+pub fn morph_step(i: i32, j: i32) -> IVec2 {
+    match (i & 1, j & 1) {
+        (0, 0) => IVec2::ZERO,
+        (1, 0) => IVec2::new(-1, 0),
+        (0, _) => IVec2::new(0, -1),
+        _ if (i + j) & 3 == 2 => IVec2::new(-1, -1),
+        _ => IVec2::new(-1, 1),
+    }
 }
 
 /// The morphed world xz of unit-grid vertex (i, j) (0..=V) of a patch, exactly as the vertex
@@ -39,51 +47,104 @@ pub fn patch_vertex_xz(inst: &PatchInstance, v: u32, i: u32, j: u32, camera: Vec
     let p0 = Vec2::from(inst.centre) + inst.size * unit;
     let h = inst.size / v as f32;
     let d = Vec3::new(p0.x, 0.0, p0.y).distance(camera);
-    let mut p = p0 - morph_offset(p0, h, morph_factor(inst.morph, d));
+    let (i, j) = (i as i32, j as i32);
+    let mut p = p0 + h * morph_factor(inst.morph, d) * morph_step(i, j).as_vec2();
     let s = StitchFlags::from_bits(inst.stitch as u8);
+    let v = v as i32;
     let on_stitched = (i == v && s.contains(StitchFlags::EAST))
         || (j == v && s.contains(StitchFlags::NORTH))
         || (i == 0 && s.contains(StitchFlags::WEST))
         || (j == 0 && s.contains(StitchFlags::SOUTH));
     if on_stitched {
-        p -= morph_offset(p0, 2.0 * h, morph_factor(inst.coarse_morph, d));
+        let k = morph_factor(inst.coarse_morph, d);
+        p += 2.0 * h * k * morph_step(i >> 1, j >> 1).as_vec2();
     }
     p
 }
 
 /// The morphed world xz of skirt vertex `pos` (relative to the grid centre) with the skirt's
 /// instance ([`crate::lod::OceanLod::skirt_instance`]): inner-edge vertices (`inner`) follow
-/// the ring patches' stitched outer edges (`coarse_morph` on the doubled ring spacing), outer
-/// corners stay put.
+/// the ring patches' outer edges (`coarse_morph` on the doubled ring spacing H = 2 ×
+/// `vertex_spacing`, lattice index round(pos.xz / H)), outer corners stay put.
 pub fn skirt_vertex_xz(inst: &PatchInstance, pos: [f32; 3], inner: bool, camera: Vec3) -> Vec2 {
     let p0 = Vec2::from(inst.centre) + Vec2::new(pos[0], pos[2]);
     if !inner {
         return p0;
     }
     let d = Vec3::new(p0.x, 0.0, p0.y).distance(camera);
-    p0 - morph_offset(
-        p0,
-        2.0 * inst.vertex_spacing,
-        morph_factor(inst.coarse_morph, d),
-    )
+    let hh = 2.0 * inst.vertex_spacing;
+    let (i, j) = ((pos[0] / hh).round() as i32, (pos[2] / hh).round() as i32);
+    p0 + hh * morph_factor(inst.coarse_morph, d) * morph_step(i, j).as_vec2()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::lod::stitch::index_set;
 
     #[test]
-    fn odd_vertices_reach_even_ones_at_full_morph() {
-        assert_eq!(
-            morph_offset(Vec2::new(3.0, 4.0), 1.0, 1.0),
-            Vec2::new(1.0, 0.0)
-        );
-        assert_eq!(
-            morph_offset(Vec2::new(-3.0, -5.0), 1.0, 0.5),
-            Vec2::splat(0.5)
-        );
+    fn steps_and_factors() {
+        assert_eq!(morph_step(4, 6), IVec2::ZERO);
+        assert_eq!(morph_step(3, 4), IVec2::new(-1, 0));
+        assert_eq!(morph_step(-2, -5), IVec2::new(0, -1));
+        assert_eq!(morph_step(1, 1), IVec2::new(-1, -1));
+        assert_eq!(morph_step(3, 1), IVec2::new(-1, 1));
+        assert_eq!(morph_step(-1, -1), IVec2::new(-1, -1));
+        assert_eq!(morph_step(-1, 1), IVec2::new(-1, 1));
         assert_eq!(morph_factor([10.0, 20.0], 5.0), 0.0);
         assert_eq!(morph_factor([10.0, 20.0], 15.0), 0.5);
         assert_eq!(morph_factor([10.0, 20.0], 25.0), 1.0);
+    }
+
+    /// Every triangle of every index set, at full morph, is either degenerate or one of the
+    /// triangles of the parent's mesh (2× spacing, `index_set(V, NONE)` over a 2×2 block of
+    /// children), and together they cover the same area once: the collapsed patch is the
+    /// parent's mesh.
+    #[test]
+    fn full_morph_collapses_onto_the_parent_triangles() {
+        let v = 16u32;
+        let row = v + 1;
+        // The parent's triangles, in child lattice units.
+        let mut parent: Vec<[(i32, i32); 3]> = index_set(v, StitchFlags::NONE)
+            .chunks(3)
+            .map(|t| {
+                let q = |k: u16| (2 * (k as u32 % row) as i32, 2 * (k as u32 / row) as i32);
+                let mut t = [q(t[0]), q(t[1]), q(t[2])];
+                let m = t.iter().enumerate().min_by_key(|(_, p)| **p).unwrap().0;
+                t.rotate_left(m);
+                t
+            })
+            .collect();
+        parent.sort_unstable();
+        let children = [(0, 0), (v as i32, 0), (0, v as i32), (v as i32, v as i32)];
+        for ((ox, oy), bits) in children
+            .into_iter()
+            .flat_map(|c| (0..16).map(move |b| (c, b)))
+        {
+            let mut area = 0i64;
+            for t in index_set(v, StitchFlags::from_bits(bits)).chunks(3) {
+                let q = |k: u16| {
+                    let (i, j) = ((k as u32 % row) as i32 + ox, (k as u32 / row) as i32 + oy);
+                    let s = morph_step(i, j);
+                    (i + s.x, j + s.y)
+                };
+                let mut c = [q(t[0]), q(t[1]), q(t[2])];
+                // y of (b − a) × (c − a), > 0 for the +y facing triangles of eq. 66.
+                let a = (c[1].1 - c[0].1) as i64 * (c[2].0 - c[0].0) as i64
+                    - (c[1].0 - c[0].0) as i64 * (c[2].1 - c[0].1) as i64;
+                assert!(a >= 0, "flags {bits}: collapsed triangle {c:?} flipped");
+                if a == 0 {
+                    continue;
+                }
+                area += a;
+                let m = c.iter().enumerate().min_by_key(|(_, p)| **p).unwrap().0;
+                c.rotate_left(m);
+                assert!(
+                    parent.binary_search(&c).is_ok(),
+                    "flags {bits}: collapsed triangle {c:?} is not a parent triangle"
+                );
+            }
+            assert_eq!(area, 2 * (v * v) as i64, "flags {bits}");
+        }
     }
 }

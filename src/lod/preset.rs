@@ -39,6 +39,15 @@ impl QualityPreset {
         }
     }
 
+    /// Split scale K = τ + 1: a node splits when the viewer is nearer than K·s to its square
+    /// ([`LodSettings::split_distance`]). Eq. 57 measures to the node centre, which is up to
+    /// s/√2 farther than the square; CDLOD morphing needs the closest point, and a LOD band
+    /// wider than a patch diagonal (K > √2) to fit the morph in (see
+    /// [`LodSettings::morph_range`]).
+    pub fn split_scale(self) -> f32 {
+        self.lod_scale() + 1.0
+    }
+
     /// Cull scale β (eq. 61): here the safety factor on the displacement padding of each
     /// patch's culling box (see [`crate::lod::frustum::patch_box`]).
     pub fn cull_scale(self) -> f32 {
@@ -105,15 +114,16 @@ pub struct LodSettings {
 }
 
 impl LodSettings {
-    /// Derives L_max (eq. 56) and the boundary ring level (see [`Self::boundary_level`]).
+    /// Derives L_max (eq. 56) and the ring levels (see [`Self::boundary_level`]).
     pub fn new(preset: QualityPreset, size: OceanSize) -> Self {
         let max_level = size.max_level();
         let v = preset.vertices() as f32;
-        let tau = preset.lod_scale();
-        // Smallest level at which a node touching the outer edge fails eq. 57 for every
-        // camera inside the snap cell: its centre is at least S/2 − s/2 − δ away (δ = S/V).
+        let k = preset.split_scale();
+        // Smallest level at which no node touching the outer edge passes the split test for a
+        // viewer in the snap cell: such a node's box is at least S/2 − s − δ away (δ = S/V),
+        // so 2^b·(1/2 − 1/V) − 1 ≥ K in units of s_b.
         let mut boundary_level = 2;
-        while ((1u32 << boundary_level) as f32) * (0.5 - 1.0 / v) < tau + 0.5 {
+        while ((1u32 << boundary_level) as f32) * (0.5 - 1.0 / v) - 1.0 < k {
             boundary_level += 1;
         }
         Self {
@@ -149,15 +159,26 @@ impl LodSettings {
         1 << self.max_level
     }
 
-    /// The level of every patch touching the outer edge of the grid (the "ring").
+    /// The finest level a patch touching the outer edge of the grid (the "ring") is split
+    /// to: the smallest level at which the split test ([`Self::split_distance`]) never splits a
+    /// ring node for a viewer in the snap cell, so capping the ring here removes no detail the
+    /// distance asked for.
     ///
-    /// The ring is forced to this one level so the horizon skirt, whose inner edge has the
-    /// vertex spacing of level `boundary_level − 1`, meets it without T-junctions: ring patches
-    /// stitch their outer edge toward the skirt as if it were a one-level-coarser neighbour. The
-    /// level is the smallest at which eq. 57 alone would not subdivide a ring node, so forcing
-    /// it never removes detail the distance test asked for.
+    /// Ring patches stay within two levels, [`Self::min_ring_level`] ..= this, so that one
+    /// prebuilt horizon skirt, whose inner edge has the vertex spacing of the level below the
+    /// finest ring patch, meets all of them without T-junctions: the finer ring patches stitch
+    /// their outer edge toward it, the coarser ones already have its spacing.
     pub fn boundary_level(&self) -> u32 {
         self.boundary_level
+    }
+
+    /// The coarsest level of a ring patch: one above [`Self::boundary_level`], and at least 2
+    /// (the grid snap keeps the morph lattices of levels ≥ 2 fixed in the world; see
+    /// [`Self::snap_step`]). Ring nodes coarser than this split whatever their distance.
+    pub fn min_ring_level(&self) -> u32 {
+        (self.boundary_level.saturating_sub(1))
+            .max(2)
+            .min(self.max_level)
     }
 
     /// Node size s_l = S / 2^l.
@@ -172,25 +193,44 @@ impl LodSettings {
 
     /// Grid snap step δ = S / V (eq. 69 uses S / 2V).
     ///
-    /// Twice the thesis's step: S / 2V keeps every level ≥ 1 on its world lattice; S / V also
-    /// keeps the parity of the level-1 lattice fixed, which the geomorph of vertices on edges
-    /// stitched toward level 1 needs (odd vertices slide onto even ones; see
-    /// [`crate::lod::morph`]).
+    /// Twice the thesis's step, so a snap moves every lattice the geomorph reads by a multiple
+    /// of 4 of its spacing from level 2 on (δ = 2^l · s_l / V): which vertices are odd, and
+    /// which diagonal each coarse cell has, stay fixed in the world, so a snap alone never
+    /// changes the drawn surface (see [`crate::lod::morph`]). Node lattices stay fixed too
+    /// (δ is a multiple or a divisor of every s_l).
     pub fn snap_step(&self) -> f32 {
         self.size / self.vertices() as f32
     }
 
+    /// Split distance R_l = K·s_l (m): a level-l node is subdivided when the viewer is nearer
+    /// than R_l to the closest point of its square (replaces eq. 57's centre distance; see
+    /// [`QualityPreset::split_scale`]).
+    pub fn split_distance(&self, level: u32) -> f32 {
+        self.preset.split_scale() * self.node_size(level)
+    }
+
     /// Geomorph distance range [start, end] (m) of level l: a level-l vertex's morph factor
-    /// rises from 0 at `start` to 1 at `end` ([`crate::lod::morph::morph_factor`]).
+    /// rises from 0 at `start` to 1 at `end` ([`crate::lod::morph::morph_factor`]); h_l is the
+    /// level's vertex spacing.
     ///
-    /// A level-l patch exists while its parent's centre is nearer than s_(l−1)·τ = 2·s_l·τ
-    /// (eq. 57), so the morph completes there; level 0 never morphs (infinite range).
+    /// `end` = R_(l−1) − 5·h_l: a level-l patch is replaced by its parent exactly when the
+    /// viewer is R_(l−1) from the parent's square, which holds all the patch's vertices, so
+    /// they are all fully morphed onto the parent's lattice then. `start` = R_l + √2·s_l + 5·h_l:
+    /// a level-l patch appears (its children merge) when the viewer is R_l from its square, so
+    /// no vertex of it is farther than R_l + √2·s_l and none is morphed yet. The 5·h_l margins
+    /// cover a grid snap, which shifts the node lattice: a point then changes patch without
+    /// any split, and the vertices of the triangles drawn over it lie within 4.5·h_l of it
+    /// (one cell, or two along a stitched edge). Needs K > √2 + 10/V. Level 0 never morphs
+    /// (infinite range).
     pub fn morph_range(&self, level: u32) -> [f32; 2] {
         if level == 0 {
             return [f32::MAX, f32::MAX];
         }
-        let s = self.node_size(level) * self.preset.lod_scale();
-        [1.5 * s, 2.0 * s]
+        let (s, h) = (self.node_size(level), 5.0 * self.vertex_spacing(level));
+        [
+            self.split_distance(level) + std::f32::consts::SQRT_2 * s + h,
+            self.split_distance(level - 1) - h,
+        ]
     }
 
     /// Distance from the grid centre to the outer edge of the horizon skirt (section 5.7: 10·S).

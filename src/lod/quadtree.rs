@@ -1,5 +1,6 @@
-//! The quadtree selection: explicit-stack traversal with the squared-distance test (eq. 57-58),
-//! the finest-level subdivision map, 2:1 balancing and the stitch flags (eq. 62-64).
+//! The quadtree selection: explicit-stack traversal with a squared-distance test (eq. 57-58,
+//! measured to the node's square rather than its centre), the finest-level subdivision map,
+//! 2:1 balancing and the stitch flags (eq. 62-64).
 
 use glam::Vec3;
 
@@ -52,30 +53,36 @@ impl Quadtree {
             map: vec![0; w * w],
             stack: Vec::with_capacity(3 * settings.max_level() as usize + 4),
             leaves: Vec::with_capacity(w * w),
-            ring_level: settings.boundary_level() as u8,
+            ring_level: settings.min_ring_level() as u8,
         }
     }
 
     /// Selects the patches for a viewer at `viewer_rel`, relative to the grid centre (the grid
     /// spans [−S/2, S/2]² around it; y is the height above the water plane).
     ///
-    /// 1. Traversal (eq. 57-58): a node subdivides when |c − p|² < (s·τ)², except that nodes
-    ///    touching the outer edge subdivide exactly down to [`LodSettings::boundary_level`].
+    /// 1. Traversal (eq. 57-58 with the closest point): a node subdivides when
+    ///    |q − p|² < R_l², q the point of its square nearest the viewer p and
+    ///    R_l = [`LodSettings::split_distance`]. Nodes touching the outer edge (the ring) use
+    ///    the same test but always split down to [`LodSettings::min_ring_level`] and never
+    ///    below [`LodSettings::boundary_level`].
     /// 2. Balance: any leaf with an edge neighbour more than one level finer splits, until the
     ///    tree is restricted (2:1), so every stitched edge meets a neighbour exactly one level
-    ///    coarser, as the patterns of eq. 66 require. A split ripples outward; if it reaches
-    ///    the ring, the whole ring is refined to the same level ([`Self::ring_level`]), so the
-    ///    ring stays uniform and a prebuilt skirt still fits it.
-    /// 3. Stitch flags from the map (eq. 63-64); ring edges on the grid boundary are flagged
-    ///    because the skirt is built one level coarser.
+    ///    coarser, as the patterns of eq. 66 require. With K > √2 the distance test alone
+    ///    gives a restricted tree (a node next to a split node of the next finer level is at
+    ///    most R_l + √2·s_l < R_(l−1) away), so this only acts where the ring rule forced a
+    ///    split. Ring leaves stay within two levels ([`Self::ring_level`] and the next coarser one),
+    ///    splitting coarser ones if balancing refined the ring.
+    /// 3. Stitch flags from the map (eq. 63-64); the skirt outside the map counts as one level
+    ///    coarser than [`Self::ring_level`].
     pub fn build(&mut self, viewer_rel: Vec3) {
         self.traverse(viewer_rel);
         self.balance();
         self.flag_stitches();
     }
 
-    /// The level of every patch touching the outer edge in the last [`Self::build`]:
-    /// [`LodSettings::boundary_level`], or finer when balancing rippled out to the ring.
+    /// The finest level of a patch touching the outer edge in the last [`Self::build`]; every
+    /// such patch is at this level or the one above. At most [`LodSettings::boundary_level`]
+    /// unless balancing rippled out to the ring.
     pub fn ring_level(&self) -> u32 {
         self.ring_level as u32
     }
@@ -99,9 +106,13 @@ impl Quadtree {
 
     fn traverse(&mut self, p: Vec3) {
         let st = self.settings;
-        let (size, tau) = (st.size(), st.preset().lod_scale());
-        let (l_max, ring) = (st.max_level() as u8, st.boundary_level() as u8);
-        self.ring_level = ring;
+        let size = st.size();
+        let (l_max, ring_min, ring_max) = (
+            st.max_level() as u8,
+            st.min_ring_level() as u8,
+            st.boundary_level() as u8,
+        );
+        self.ring_level = ring_min;
         self.leaves.clear();
         self.stack.clear();
         self.stack.push(Node {
@@ -110,19 +121,22 @@ impl Quadtree {
             level: 0,
         });
         while let Some(n) = self.stack.pop() {
+            let s = st.node_size(n.level as u32);
+            let near = || {
+                // Eq. 58: the node's square relative to the grid centre; the squared distance
+                // from the viewer to its closest point against R_l² (eq. 57).
+                let lo_x = -0.5 * size + n.x as f32 * s;
+                let lo_z = -0.5 * size + n.y as f32 * s;
+                let dx = (lo_x - p.x).max(p.x - (lo_x + s)).max(0.0);
+                let dz = (lo_z - p.z).max(p.z - (lo_z + s)).max(0.0);
+                let r = st.split_distance(n.level as u32);
+                dx * dx + dz * dz + p.y * p.y < r * r
+            };
             let subdivide = n.level < l_max
                 && if Self::on_ring(n.x, n.y, n.level) {
-                    n.level < ring
+                    n.level < ring_min || (n.level < ring_max && near())
                 } else {
-                    let s = st.node_size(n.level as u32);
-                    // Eq. 58: node centre relative to the grid centre.
-                    let c = Vec3::new(
-                        -0.5 * size + (n.x as f32 + 0.5) * s,
-                        0.0,
-                        -0.5 * size + (n.y as f32 + 0.5) * s,
-                    );
-                    // Eq. 57.
-                    c.distance_squared(p) < (s * tau) * (s * tau)
+                    near()
                 };
             if subdivide {
                 let (x, y, level) = (2 * n.x, 2 * n.y, n.level + 1);
@@ -135,6 +149,9 @@ impl Quadtree {
                     });
                 }
             } else {
+                if Self::on_ring(n.x, n.y, n.level) {
+                    self.ring_level = self.ring_level.max(n.level);
+                }
                 self.emit(n.x, n.y, n.level);
             }
         }
@@ -188,8 +205,8 @@ impl Quadtree {
     }
 
     /// Splits leaves until no edge neighbour is more than one level finer (restricted quadtree)
-    /// and every ring leaf is at the ring level. Splitting only refines, so it terminates; a
-    /// pass that splits nothing ends it.
+    /// and every ring leaf is at the ring level or the one above. Splitting only refines, so
+    /// it terminates; a pass that splits nothing ends it.
     fn balance(&mut self) {
         let l_max = self.settings.max_level() as u8;
         loop {
@@ -203,7 +220,7 @@ impl Quadtree {
                     split = true;
                 }
                 if level < l_max
-                    && ((ring && level < self.ring_level)
+                    && ((ring && level + 1 < self.ring_level)
                         || self.finest_edge_neighbour(x, y, level) > level + 1)
                 {
                     let (cx, cy, cl) = (2 * x, 2 * y, level + 1);
@@ -250,8 +267,11 @@ impl Quadtree {
                 (StitchFlags::WEST, gx - 1, gy),
                 (StitchFlags::SOUTH, gx, gy - 1),
             ] {
-                // Outside the map is the skirt, built one level coarser than the ring.
-                let coarser = self.level_at(nx, ny).is_none_or(|l| l < level);
+                // Outside the map is the skirt, built one level coarser than the finest ring
+                // patches.
+                let coarser = self
+                    .level_at(nx, ny)
+                    .map_or(level == self.ring_level, |l| l < level);
                 if coarser {
                     flags = flags.with(edge);
                 }
@@ -282,7 +302,7 @@ mod tests {
     }
 
     #[test]
-    fn trees_are_restricted_and_the_ring_is_uniform() {
+    fn trees_are_restricted_and_the_ring_spans_two_levels() {
         for p in QualityPreset::ALL {
             for s in [256.0, 700.0, 8192.0] {
                 let st = LodSettings::new(p, OceanSize::new(s).unwrap());
@@ -293,7 +313,11 @@ mod tests {
                     check_balanced(&t, st.max_level() as u8);
                     for l in t.leaves() {
                         if Quadtree::on_ring(l.x, l.y, l.level) {
-                            assert_eq!(l.level as u32, t.ring_level(), "{p:?} S={s}");
+                            let r = t.ring_level();
+                            assert!(
+                                (r - 1..=r).contains(&(l.level as u32)),
+                                "{p:?} S={s}: ring leaf {l:?}, ring level {r}"
+                            );
                         }
                     }
                 }

@@ -2,8 +2,10 @@
 
 /// The skirt ring, positions relative to the grid centre (metres, y = 0).
 ///
-/// Its inner edge has the vertex spacing of level `boundary_level − 1`, which is exactly what a
-/// ring patch's stitched outer edge has, so the skirt meets the quadtree without T-junctions.
+/// Its inner edge has the vertex spacing of the level below the ring level (the finest ring
+/// patches), which is exactly what a ring patch's stitched outer edge has, and what the
+/// unstitched outer edge of a ring patch one level coarser has, so the skirt meets the
+/// quadtree without T-junctions.
 /// The first [`Self::inner_vertex_count`] vertices are the inner edge; the renderer morphs them
 /// like a stitched patch edge (`coarse_morph` of the skirt instance) and leaves the four outer
 /// corners alone. Each side is a fan from the inner edge to the two outer corners.
