@@ -93,7 +93,7 @@ fn culling_never_drops_a_visible_patch() {
 fn a_standing_user_looking_at_the_horizon_culls_at_least_40_percent() {
     let pad = MaxDisplacement::new([1.0, 1.5, 1.0]).unwrap();
     for preset in QualityPreset::ALL {
-        for size in [256.0, 1024.0, 8192.0] {
+        for size in [256.0, 512.0, 1024.0, 2048.0, 4096.0, 8192.0] {
             let st = LodSettings::new(preset, OceanSize::new(size).unwrap());
             let mut lod = OceanLod::new(st);
             let mut worst = 1.0f32;
@@ -115,9 +115,11 @@ fn a_standing_user_looking_at_the_horizon_culls_at_least_40_percent() {
                 preset.name(),
                 worst * 100.0
             );
-            // At S = 256 the whole ocean is 16 patches of 64 m around the user; the claim is
-            // for oceans with a real hierarchy.
-            if size >= 1024.0 {
+            // At S = 256 (L_max = 2, eq. 56) the whole ocean is 16 patches of 64 m and the
+            // user stands at the corner the 4 central ones share: with 6 more in view, the
+            // brute-force test above finds 10 of 16 padded boxes visible at some headings, so
+            // no conservative culling reaches 40 % there. The claim is for S >= 512.
+            if size >= 512.0 {
                 assert!(worst >= 0.4, "{preset:?} S={size}: only {worst} culled");
             }
         }
