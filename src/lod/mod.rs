@@ -74,7 +74,7 @@ impl OceanLod {
         let w = settings.map_width() as usize;
         let v = settings.vertices();
         // One skirt per possible ring level, its inner edge at the ring's stitched spacing.
-        let skirts = (settings.min_ring_level()..=settings.max_level())
+        let skirts = (settings.boundary_level()..=settings.max_level())
             .map(|ring| {
                 let segments = (1u32 << ring) * v / 2;
                 SkirtMesh::new(settings.size(), segments, settings.skirt_extent())
@@ -185,7 +185,7 @@ impl OceanLod {
     /// The skirt mesh to draw this frame, the one matching the ring level (positions relative
     /// to [`Self::grid_centre`]). All skirts are built in [`Self::new`].
     pub fn skirt(&self) -> &SkirtMesh {
-        &self.skirts[(self.tree.ring_level() - self.settings.min_ring_level()) as usize]
+        &self.skirts[(self.tree.ring_level() - self.settings.boundary_level()) as usize]
     }
 
     /// The skirt for ring level `ring` (`boundary_level..=max_level`): the renderer uploads

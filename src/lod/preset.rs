@@ -110,11 +110,11 @@ pub struct LodSettings {
     preset: QualityPreset,
     size: f32,
     max_level: u32,
-    boundary_level: u32,
+    max_ring_level: u32,
 }
 
 impl LodSettings {
-    /// Derives L_max (eq. 56) and the ring levels (see [`Self::boundary_level`]).
+    /// Derives L_max (eq. 56) and the ring levels (see [`Self::max_ring_level`]).
     pub fn new(preset: QualityPreset, size: OceanSize) -> Self {
         let max_level = size.max_level();
         let v = preset.vertices() as f32;
@@ -122,15 +122,15 @@ impl LodSettings {
         // Smallest level at which no node touching the outer edge passes the split test for a
         // viewer in the snap cell: such a node's box is at least S/2 − s − δ away (δ = S/V),
         // so 2^b·(1/2 − 1/V) − 1 ≥ K in units of s_b.
-        let mut boundary_level = 2;
-        while ((1u32 << boundary_level) as f32) * (0.5 - 1.0 / v) - 1.0 < k {
-            boundary_level += 1;
+        let mut ring = 2;
+        while ((1u32 << ring) as f32) * (0.5 - 1.0 / v) - 1.0 < k {
+            ring += 1;
         }
         Self {
             preset,
             size: size.metres(),
             max_level,
-            boundary_level: boundary_level.min(max_level),
+            max_ring_level: ring.min(max_level),
         }
     }
 
@@ -164,19 +164,21 @@ impl LodSettings {
     /// ring node for a viewer in the snap cell, so capping the ring here removes no detail the
     /// distance asked for.
     ///
-    /// Ring patches stay within two levels, [`Self::min_ring_level`] ..= this, so that one
+    /// Ring patches stay within two levels, [`Self::boundary_level`] ..= this, so that one
     /// prebuilt horizon skirt, whose inner edge has the vertex spacing of the level below the
     /// finest ring patch, meets all of them without T-junctions: the finer ring patches stitch
     /// their outer edge toward it, the coarser ones already have its spacing.
-    pub fn boundary_level(&self) -> u32 {
-        self.boundary_level
+    pub fn max_ring_level(&self) -> u32 {
+        self.max_ring_level
     }
 
-    /// The coarsest level of a ring patch: one above [`Self::boundary_level`], and at least 2
-    /// (the grid snap keeps the morph lattices of levels ≥ 2 fixed in the world; see
-    /// [`Self::snap_step`]). Ring nodes coarser than this split whatever their distance.
-    pub fn min_ring_level(&self) -> u32 {
-        (self.boundary_level.saturating_sub(1))
+    /// The coarsest level of a patch touching the outer edge of the grid: one above
+    /// [`Self::max_ring_level`], and at least 2 (the grid snap keeps the morph lattices of
+    /// levels ≥ 2 fixed in the world; see [`Self::snap_step`]). Ring nodes coarser than this
+    /// split whatever their distance; the ring level of a frame
+    /// ([`crate::lod::Quadtree::ring_level`]) is in `boundary_level..=max_level`.
+    pub fn boundary_level(&self) -> u32 {
+        (self.max_ring_level.saturating_sub(1))
             .max(2)
             .min(self.max_level)
     }
@@ -268,6 +270,8 @@ mod tests {
             for s in [256.0, 300.0, 1024.0, 8192.0] {
                 let st = LodSettings::new(p, OceanSize::new(s).unwrap());
                 assert!((2..=st.max_level()).contains(&st.boundary_level()));
+                assert!((st.boundary_level()..=st.max_level()).contains(&st.max_ring_level()));
+                assert!(st.max_ring_level() - st.boundary_level() <= 1);
             }
         }
     }

@@ -53,7 +53,7 @@ impl Quadtree {
             map: vec![0; w * w],
             stack: Vec::with_capacity(3 * settings.max_level() as usize + 4),
             leaves: Vec::with_capacity(w * w),
-            ring_level: settings.min_ring_level() as u8,
+            ring_level: settings.boundary_level() as u8,
         }
     }
 
@@ -63,8 +63,8 @@ impl Quadtree {
     /// 1. Traversal (eq. 57-58 with the closest point): a node subdivides when
     ///    |q − p|² < R_l², q the point of its square nearest the viewer p and
     ///    R_l = [`LodSettings::split_distance`]. Nodes touching the outer edge (the ring) use
-    ///    the same test but always split down to [`LodSettings::min_ring_level`] and never
-    ///    below [`LodSettings::boundary_level`].
+    ///    the same test but always split down to [`LodSettings::boundary_level`] and never
+    ///    below [`LodSettings::max_ring_level`].
     /// 2. Balance: any leaf with an edge neighbour more than one level finer splits, until the
     ///    tree is restricted (2:1), so every stitched edge meets a neighbour exactly one level
     ///    coarser, as the patterns of eq. 66 require. With K > √2 the distance test alone
@@ -81,7 +81,7 @@ impl Quadtree {
     }
 
     /// The finest level of a patch touching the outer edge in the last [`Self::build`]; every
-    /// such patch is at this level or the one above. At most [`LodSettings::boundary_level`]
+    /// such patch is at this level or the one above. At most [`LodSettings::max_ring_level`]
     /// unless balancing rippled out to the ring.
     pub fn ring_level(&self) -> u32 {
         self.ring_level as u32
@@ -109,8 +109,8 @@ impl Quadtree {
         let size = st.size();
         let (l_max, ring_min, ring_max) = (
             st.max_level() as u8,
-            st.min_ring_level() as u8,
             st.boundary_level() as u8,
+            st.max_ring_level() as u8,
         );
         self.ring_level = ring_min;
         self.leaves.clear();
