@@ -53,11 +53,22 @@ float morph_factor(vec2 r, float d) {
     return r.y > r.x ? clamp((d - r.x) / (r.y - r.x), 0.0, 1.0) : 0.0;
 }
 
-// h·k on each axis whose lattice coordinate round(p / h) is odd.
-vec2 morph_offset(vec2 p, float h, float k) {
-    vec2 c = round(p / h);
-    vec2 odd = abs(c - 2.0 * floor(c * 0.5));
-    return odd * (h * k);
+// Where lattice vertex (i, j) goes at full morph, in spacings (`lod::morph::morph_step`): none
+// when both are even; -1 along the odd axis when one is odd; when both are odd, along the
+// parent's fan diagonal: (-1, -1) if (i + j) & 3 == 2, else (-1, +1). Two's-complement `&` and
+// arithmetic `>>` on int, as in Rust.
+vec2 morph_step(ivec2 ij) {
+    ivec2 odd = ij & 1;
+    if (odd.x == 0 && odd.y == 0) {
+        return vec2(0.0);
+    }
+    if (odd.y == 0) {
+        return vec2(-1.0, 0.0);
+    }
+    if (odd.x == 0) {
+        return vec2(0.0, -1.0);
+    }
+    return ((ij.x + ij.y) & 3) == 2 ? vec2(-1.0, -1.0) : vec2(-1.0, 1.0);
 }
 
 vec4 ocean_vertex(uint eye);
@@ -94,21 +105,24 @@ vec4 ocean_vertex(uint eye) {
         p0 = i_centre + i_size * a_pos.xz;
         float h = i_size / v;
         d = distance(vec3(p0.x, 0.0, p0.y), g.lod_viewer.xyz);
-        p = p0 - morph_offset(p0, h, morph_factor(i_morph, d));
-        uvec2 ij = uvec2(round((a_pos.xz + 0.5) * v));
-        bool stitched = (ij.x == pc.grid_v && (i_stitch & EAST) != 0u)
-            || (ij.y == pc.grid_v && (i_stitch & NORTH) != 0u)
-            || (ij.x == 0u && (i_stitch & WEST) != 0u)
-            || (ij.y == 0u && (i_stitch & SOUTH) != 0u);
+        ivec2 ij = ivec2(round((a_pos.xz + 0.5) * v));
+        p = p0 + h * morph_factor(i_morph, d) * morph_step(ij);
+        int n = int(pc.grid_v);
+        bool stitched = (ij.x == n && (i_stitch & EAST) != 0u)
+            || (ij.y == n && (i_stitch & NORTH) != 0u)
+            || (ij.x == 0 && (i_stitch & WEST) != 0u)
+            || (ij.y == 0 && (i_stitch & SOUTH) != 0u);
         if (stitched) {
-            p -= morph_offset(p0, 2.0 * h, morph_factor(i_coarse_morph, d));
+            p += 2.0 * h * morph_factor(i_coarse_morph, d) * morph_step(ij >> 1);
         }
     } else {
         p0 = i_centre + a_pos.xz;
         d = distance(vec3(p0.x, 0.0, p0.y), g.lod_viewer.xyz);
         p = p0;
         if (uint(gl_VertexIndex) < pc.inner_count) {
-            p -= morph_offset(p0, 2.0 * i_vertex_spacing, morph_factor(i_coarse_morph, d));
+            float hh = 2.0 * i_vertex_spacing;
+            ivec2 ij = ivec2(round(a_pos.xz / hh));
+            p += hh * morph_factor(i_coarse_morph, d) * morph_step(ij);
         }
     }
     // Each cascade fades out with distance before its waves alias on the coarser mesh. The

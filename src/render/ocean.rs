@@ -765,15 +765,17 @@ fn sampler(ctx: &GpuContext, max_lod: f32) -> Result<vk::Sampler, RenderError> {
 
 /// Per cascade, the distances (m) where its displacement starts and ends fading from the mesh.
 ///
-/// A level-l patch (vertex spacing s_l/V) is drawn out to about s_l·τ from the viewer (eq. 57),
-/// so the mesh spacing at distance d is at most 2d/(τV). A cascade of patch L keeps its
-/// displacement while that spacing is under L/8 and is gone where it reaches L/4, beyond which
-/// its shorter waves would alias into noise on the coarser mesh (the normals still show them).
+/// A level-l patch (vertex spacing s_l/V) is split once the viewer is nearer than K·s_l to its
+/// square ([`LodSettings::split_distance`]), so at distance d the mesh spacing is at most about
+/// d/(K·V); with a factor 2 for vertices up to a patch diagonal beyond the square, 2d/(K·V). A
+/// cascade of patch L keeps its displacement while that spacing is under L/8 and is gone where
+/// it reaches L/4, beyond which its shorter waves would alias into noise on the coarser mesh
+/// (the normals, sampled per pixel with mips, still show them).
 fn cascade_fades(st: &LodSettings, patch_sizes: &[f32]) -> [[f32; 4]; 2] {
     let mut out = [[f32::MAX; 4], [f32::MAX; 4]];
-    let tv = st.preset().lod_scale() * st.vertices() as f32;
+    let kv = st.preset().split_scale() * st.vertices() as f32;
     for (c, &l) in patch_sizes.iter().enumerate() {
-        let end = l * tv / 8.0;
+        let end = l * kv / 8.0;
         out[0][c] = 0.5 * end;
         out[1][c] = end;
     }
