@@ -1,5 +1,6 @@
-//! The `vr-ocean` command line: simulate, export, bench and lod-svg (the VR and window modes arrive with
-//! the renderer).
+//! The `vr-ocean` command line: the ocean window (the default, falling back to headless without a
+//! display), headless rendering, simulate, export, bench and lod-svg (the VR mode arrives with
+//! the OpenXR backend).
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -17,6 +18,7 @@ use vr_ocean::sim::{
     FoamParams, GridSize, OceanConfig, ParamError, SimCore, SimError, Simulation, SpectrumKind,
     Surfaces, WaveParams,
 };
+use vr_ocean::xr::mock::window::{OpenError, WindowOptions, WindowSize, WindowXr, KEYS_HELP};
 use vr_ocean::xr::mock::{CameraPath, EyeSize, HeadlessXr};
 use vr_ocean::xr::FrameLoop;
 
@@ -39,6 +41,9 @@ enum Command {
     Export(ExportArgs),
     /// Time every pipeline stage next to rustfft and (with --features fftw) FFTW.
     Bench(BenchArgs),
+    /// Open the ocean in a window (the default): both eyes side by side, fly with keyboard and
+    /// mouse, live wave and quality keys, frame times in the title.
+    Window(WindowArgs),
     /// Render without a window along a camera path: both eyes as PNG and frame_times.json.
     Headless(HeadlessArgs),
     /// Draw one frame of the quadtree LOD (patches by level, stitched edges, both eye frusta) as SVG.
@@ -200,11 +205,12 @@ struct SimulateArgs {
     threads: usize,
 }
 
-/// What `vr-ocean` with no subcommand runs: `simulate` with its defaults.
+/// What `vr-ocean` with no subcommand runs: `window` with its defaults (headless without a
+/// display).
 #[derive(Parser)]
 struct DefaultRun {
     #[command(flatten)]
-    args: SimulateArgs,
+    args: WindowArgs,
 }
 
 #[derive(Args)]
@@ -313,6 +319,27 @@ struct HeadlessArgs {
 }
 
 #[derive(Args)]
+struct WindowArgs {
+    #[command(flatten)]
+    view: ViewArgs,
+    /// Window size WIDTHxHEIGHT; each eye is rendered at half the width by the full height.
+    #[arg(long, default_value = "1600x800")]
+    size: String,
+    /// Camera path file: poses from the path (on the real clock) instead of keyboard and mouse.
+    #[arg(long)]
+    path: Option<PathBuf>,
+    /// Quit after this many frames (unattended runs and tests); default: until Esc.
+    #[arg(long)]
+    frames: Option<u64>,
+    /// Save the window's last frame as PNG (needs --frames).
+    #[arg(long, requires = "frames")]
+    screenshot: Option<PathBuf>,
+}
+
+/// Where the default run writes when there is no display.
+const FALLBACK_DIR: &str = "vr-ocean-headless";
+
+#[derive(Args)]
 struct BenchArgs {
     /// Grid sides to measure.
     #[arg(long, value_delimiter = ',', default_values_t = [128, 256, 512])]
@@ -339,7 +366,8 @@ fn main() -> ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info")).init();
     let cli = Cli::parse();
     let result = match cli.command {
-        None => simulate(DefaultRun::parse_from(["vr-ocean"]).args),
+        None => window_cmd(DefaultRun::parse_from(["vr-ocean"]).args, true),
+        Some(Command::Window(a)) => window_cmd(a, false),
         Some(Command::Simulate(a)) => simulate(a),
         Some(Command::Export(a)) => export_cmd(a),
         Some(Command::Bench(a)) => bench_cmd(a),
@@ -436,6 +464,86 @@ impl app::RunHooks for PngWriter {
         }
         Ok(())
     }
+}
+
+/// The window mode; with `fallback`, no display means a headless run into [`FALLBACK_DIR`].
+fn window_cmd(a: WindowArgs, fallback: bool) -> CmdResult {
+    let size = WindowSize::parse(&a.size)?;
+    if a.frames == Some(0) {
+        return Err(ParamError::new("frames", 0.0, "at least 1 frame").into());
+    }
+    let path = a.path.as_deref().map(CameraPath::load).transpose()?;
+    let warmup = a.frames.map_or(10, |n| n.saturating_sub(1).min(10));
+    let opts = a.view.run_options(Vec::new(), warmup)?;
+    if let Some(shot) = &a.screenshot {
+        let dir = shot.parent().filter(|d| !d.as_os_str().is_empty());
+        app::ensure_writable_dir(dir.unwrap_or(std::path::Path::new(".")))?;
+    }
+    let options = WindowOptions {
+        size,
+        path,
+        frames: a.frames,
+        screenshot: a.screenshot.is_some(),
+    };
+    let mut xr = match WindowXr::new(&a.view.context(), options) {
+        Ok(xr) => xr,
+        Err(OpenError::Unavailable(why)) if fallback => return headless_fallback(&why, a.view),
+        Err(e) => return Err(e.into()),
+    };
+    let eye = size.eye().extent();
+    println!(
+        "window {}x{}: both eyes at {}x{} ({}) on {}",
+        size.extent().width,
+        size.extent().height,
+        eye.width,
+        eye.height,
+        opts.renderer.stereo.name(),
+        xr.gpu().device_name
+    );
+    if a.path.is_none() {
+        println!("{KEYS_HELP}");
+    }
+    // Counts validation errors over the whole window lifetime, shutdown included.
+    let validation = xr.gpu().validation.clone();
+    let report = app::run(&mut xr, &opts, &mut app::NoHooks)?;
+    let screenshot = xr.take_screenshot();
+    drop(xr);
+    println!("{} frames", report.frames);
+    print_times(&report.times);
+    if let Some(file) = &a.screenshot {
+        let shot = screenshot.ok_or(
+            "no screenshot: the last frame was not shown (window minimised), or the window's \
+             images cannot be copied",
+        )?;
+        app::save_png(file, shot.width, shot.height, &shot.rgba)?;
+        println!("wrote {}", file.display());
+    }
+    let errors = validation.map_or(0, |v| v.errors());
+    if errors > 0 {
+        return Err(format!("{errors} Vulkan validation errors").into());
+    }
+    Ok(())
+}
+
+/// The default run without a display: 144 headless frames into [`FALLBACK_DIR`].
+fn headless_fallback(why: &str, view: ViewArgs) -> CmdResult {
+    println!("{why}; rendering 144 frames headless into ./{FALLBACK_DIR}/ instead");
+    let out = PathBuf::from(FALLBACK_DIR);
+    headless_cmd(HeadlessArgs {
+        view,
+        frames: 144,
+        size: "640x640".into(),
+        path: None,
+        capture: Vec::new(),
+        warmup: 10,
+        out: out.clone(),
+    })?;
+    let shown = std::fs::canonicalize(&out).unwrap_or(out);
+    println!(
+        "no display, so no window: the images are in {}",
+        shown.display()
+    );
+    Ok(())
 }
 
 fn print_times(t: &FrameTimes) {

@@ -2,16 +2,19 @@
 //! [`FrameLoop`]. The simulation step for the next frame runs on its own Rayon pool while this
 //! frame's LOD is updated and its commands are recorded and submitted.
 
+pub mod live;
 pub mod timing;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::lod::{self, LodSettings, MaxDisplacement, OceanLod, StereoFrustum};
+use crate::lod::{
+    self, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset, StereoFrustum,
+};
 use crate::render::readback::Readback;
 use crate::render::{self, OceanRenderer, RenderError, RendererSettings};
 use crate::sim::{OceanConfig, ParamError, SimError, Simulation};
-use crate::xr::{FrameLoop, FrameState, XrError};
+use crate::xr::{FrameLoop, FrameState, Tweak, XrError};
 pub use timing::{FrameTimes, Percentiles, Timing};
 
 /// Why a run stopped.
@@ -176,6 +179,9 @@ fn frames(
     let mut max_draws = 0;
     let mut count = 0u64;
     let mut started = false;
+    let mut recent = live::RecentFrames::default();
+    let mut stats_text = String::with_capacity(256);
+    let mut stats_at = Instant::now();
     loop {
         let start = Instant::now();
         let Some(frame) = xr.begin_frame()? else {
@@ -190,6 +196,13 @@ fn frames(
         sim.end_step();
         let sim_wait = wait.elapsed();
         let sim_step = sim.last_step_time();
+        // Live changes (window keys) apply from the step started next.
+        for &tweak in frame.tweaks.iter().flatten() {
+            match tweak {
+                Tweak::Preset(p) => switch_preset(xr, sim, lod, renderer, p)?,
+                t => live::apply_wave_tweak(sim, t),
+            }
+        }
         sim.begin_step(frame.predicted_display_time + frame.period);
         let surfaces = sim.surfaces();
 
@@ -247,6 +260,16 @@ fn frames(
                     times.push(Timing::GpuPass, g);
                 }
             }
+            recent.push(start.elapsed(), sim_step, r.gpu_pass, r.draws);
+        }
+        if stats_at.elapsed().as_secs_f64() >= 0.5 {
+            stats_at = Instant::now();
+            recent.summarise(
+                &mut stats_text,
+                lod.settings().preset(),
+                &sim.config().waves,
+            );
+            xr.show_stats(&stats_text);
         }
     }
     Ok(RunReport {
@@ -256,6 +279,36 @@ fn frames(
         validation_errors: 0,
         device: xr.gpu().device_name.clone(),
     })
+}
+
+/// Rebuilds the LOD and the renderer for `preset` (same ocean size). Waits for the GPU first:
+/// a user's switch, not the steady state.
+fn switch_preset(
+    xr: &mut dyn FrameLoop,
+    sim: &Simulation,
+    lod: &mut OceanLod,
+    renderer: &mut OceanRenderer,
+    preset: QualityPreset,
+) -> Result<(), AppError> {
+    if lod.settings().preset() == preset {
+        log::info!("quality preset is already {}", preset.name());
+        return Ok(());
+    }
+    let size = OceanSize::new(lod.settings().size())?;
+    let new_lod = OceanLod::new(LodSettings::new(preset, size));
+    xr.gpu().wait_idle();
+    let new_renderer = OceanRenderer::new(
+        xr.gpu(),
+        sim.config(),
+        &new_lod,
+        xr.targets(),
+        *renderer.settings(),
+    )?;
+    let mut old = std::mem::replace(renderer, new_renderer);
+    old.destroy(xr.gpu());
+    *lod = new_lod;
+    log::info!("quality preset: {}", preset.name());
+    Ok(())
 }
 
 /// Checks `dir` can hold output files: creates it and writes and removes a probe file, so an

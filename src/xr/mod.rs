@@ -8,8 +8,24 @@
 
 pub mod mock;
 
-use crate::lod::EyeView;
+use crate::lod::{EyeView, QualityPreset};
 use crate::render::{GpuContext, RenderError, TargetImages};
+
+/// A live change asked for by the user (window keys); the app applies it at the frame start.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Tweak {
+    /// Change the wind speed by this many m/s.
+    WindSpeed(f32),
+    /// Turn the wind by this many degrees.
+    WindDirection(f32),
+    /// Change the choppiness λ by this much.
+    Choppiness(f32),
+    /// Switch to this quality preset (rebuilds the LOD and the renderer).
+    Preset(QualityPreset),
+}
+
+/// Most tweaks one frame carries; later ones wait for the next frame.
+pub const MAX_TWEAKS: usize = 4;
 
 /// What a frame is rendered for.
 #[derive(Clone, Copy, Debug)]
@@ -24,6 +40,8 @@ pub struct FrameState {
     pub views: [EyeView; 2],
     /// False when the runtime wants the frame skipped (hidden, not focused).
     pub should_render: bool,
+    /// Live changes to apply before this frame, first to last (`None` slots are empty).
+    pub tweaks: [Option<Tweak>; MAX_TWEAKS],
 }
 
 /// Why the frame loop stopped with an error.
@@ -66,4 +84,7 @@ pub trait FrameLoop {
     fn release_image(&mut self) -> Result<(), XrError>;
     /// Shows the frame (presents the window, or nothing headless).
     fn end_frame(&mut self, frame: &FrameState) -> Result<(), XrError>;
+    /// Shows a one-line statistics summary (the window's title); called about twice a second.
+    /// Backends without a place for it ignore it.
+    fn show_stats(&mut self, _text: &str) {}
 }

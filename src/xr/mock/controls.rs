@@ -59,6 +59,11 @@ impl FlyControls {
         self.held[key as usize] = down;
     }
 
+    /// Lets go of every key (the window lost focus, so key releases would be missed).
+    pub fn release_all(&mut self) {
+        self.held = [false; 7];
+    }
+
     /// The mouse moved by (dx, dy) pixels while turning.
     pub fn look(&mut self, dx: f64, dy: f64) {
         self.yaw -= dx as f32 * self.sensitivity;

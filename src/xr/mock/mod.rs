@@ -6,11 +6,15 @@
 
 pub mod controls;
 pub mod path;
+#[cfg(not(target_os = "android"))]
+mod present;
+#[cfg(not(target_os = "android"))]
+pub mod window;
 
 use ash::vk;
 use glam::{Quat, Vec3};
 
-use super::{FrameLoop, FrameState, XrError};
+use super::{FrameLoop, FrameState, XrError, MAX_TWEAKS};
 use crate::lod::{EyeView, Fov};
 use crate::render::memory::{Image, ImageDesc};
 use crate::render::{ContextOptions, GpuContext, RenderError, TargetImages};
@@ -232,6 +236,7 @@ impl FrameLoop for HeadlessXr {
             period: PERIOD,
             views: eye_views(position, orientation),
             should_render: true,
+            tweaks: [None; MAX_TWEAKS],
         };
         self.frame += 1;
         Ok(Some(state))

@@ -1,0 +1,157 @@
+//! What the window mode changes while running: live [`Tweak`]s of the waves (validated by the
+//! simulation; refused values are logged, never fatal) and the recent-frame statistics shown
+//! in the title. Nothing here allocates per frame.
+
+use std::fmt::Write as _;
+use std::time::Duration;
+
+use crate::lod::QualityPreset;
+use crate::sim::{Simulation, WaveParams};
+use crate::xr::Tweak;
+
+/// Applies a wave tweak (wind speed, direction, choppiness) through
+/// [`Simulation::set_waves`]; logs the new value, or why it was refused. Preset tweaks are
+/// the caller's (they rebuild the LOD and renderer) and are ignored here.
+pub fn apply_wave_tweak(sim: &mut Simulation, tweak: Tweak) {
+    let mut waves: WaveParams = sim.config().waves;
+    let what = match tweak {
+        Tweak::WindSpeed(d) => {
+            waves.wind_speed += d;
+            "wind speed"
+        }
+        Tweak::WindDirection(d) => {
+            waves.wind_direction_deg = (waves.wind_direction_deg + d).rem_euclid(360.0);
+            "wind direction"
+        }
+        Tweak::Choppiness(d) => {
+            // Rounded to the step so repeated presses land on 0 and 2 exactly.
+            waves.choppiness = ((waves.choppiness + d) * 100.0).round() / 100.0;
+            "choppiness"
+        }
+        Tweak::Preset(_) => return,
+    };
+    match sim.set_waves(waves) {
+        Ok(()) => log::info!(
+            "{what}: wind {:.1} m/s from {:.0} deg, choppiness {:.2}",
+            waves.wind_speed,
+            waves.wind_direction_deg,
+            waves.choppiness
+        ),
+        Err(e) => log::warn!("{what} change refused: {e}"),
+    }
+}
+
+/// Samples kept for the title statistics.
+const RECENT: usize = 64;
+
+/// The last [`RECENT`] frames' timings (ms) and draw counts, for a live summary.
+#[derive(Clone, Debug)]
+pub struct RecentFrames {
+    frame: [f64; RECENT],
+    sim: [f64; RECENT],
+    gpu: [f64; RECENT],
+    draws: [u32; RECENT],
+    len: usize,
+    next: usize,
+}
+
+impl Default for RecentFrames {
+    fn default() -> Self {
+        Self {
+            frame: [0.0; RECENT],
+            sim: [0.0; RECENT],
+            gpu: [0.0; RECENT],
+            draws: [0; RECENT],
+            len: 0,
+            next: 0,
+        }
+    }
+}
+
+fn median(samples: &[f64]) -> f64 {
+    let mut v = [0.0; RECENT];
+    let v = &mut v[..samples.len()];
+    v.copy_from_slice(samples);
+    v.sort_unstable_by(f64::total_cmp);
+    v.get(v.len().saturating_sub(1) / 2).copied().unwrap_or(0.0)
+}
+
+impl RecentFrames {
+    /// Records one frame: total, simulation step, GPU pass (when timed) and draws.
+    pub fn push(&mut self, frame: Duration, sim: Duration, gpu: Option<Duration>, draws: u32) {
+        let i = self.next;
+        self.frame[i] = frame.as_secs_f64() * 1e3;
+        self.sim[i] = sim.as_secs_f64() * 1e3;
+        self.gpu[i] = gpu.map_or(f64::NAN, |g| g.as_secs_f64() * 1e3);
+        self.draws[i] = draws;
+        self.next = (i + 1) % RECENT;
+        self.len = (self.len + 1).min(RECENT);
+    }
+
+    /// Writes a one-line summary (p50 of each timing) into `out`, replacing its contents;
+    /// allocates nothing once `out` has room for about 200 bytes.
+    pub fn summarise(&self, out: &mut String, preset: QualityPreset, waves: &WaveParams) {
+        out.clear();
+        let n = self.len;
+        if n == 0 {
+            out.push_str("warming up");
+        } else {
+            let frame = median(&self.frame[..n]);
+            let fps = if frame > 0.0 { 1e3 / frame } else { 0.0 };
+            let gpu = median(&self.gpu[..n]);
+            let draws = self.draws[(self.next + RECENT - 1) % RECENT];
+            let _ = write!(
+                out,
+                "frame {frame:.1} ms ({fps:.0} fps) | sim {:.1} ms | GPU ",
+                median(&self.sim[..n])
+            );
+            let _ = if gpu.is_nan() {
+                write!(out, "-")
+            } else {
+                write!(out, "{gpu:.1} ms")
+            };
+            let _ = write!(out, " | {draws} draws");
+        }
+        let _ = write!(
+            out,
+            " | {} | wind {:.0} m/s {:.0} deg | chop {:.2}",
+            preset.name(),
+            waves.wind_speed,
+            waves.wind_direction_deg,
+            waves.choppiness
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn summary_shows_medians_of_recent_frames() {
+        let mut r = RecentFrames::default();
+        let mut s = String::with_capacity(256);
+        let waves = WaveParams::default();
+        r.summarise(&mut s, QualityPreset::High, &waves);
+        assert!(s.starts_with("warming up | high"), "{s}");
+        for ms in [10, 30, 20] {
+            let d = Duration::from_millis(ms);
+            r.push(d, d / 10, None, 12);
+        }
+        r.summarise(&mut s, QualityPreset::Low, &waves);
+        assert!(s.starts_with("frame 20.0 ms (50 fps) | sim 2.0 ms | GPU - | 12 draws | low"));
+        for _ in 0..RECENT {
+            r.push(
+                Duration::from_millis(5),
+                Duration::ZERO,
+                Some(Duration::from_millis(3)),
+                7,
+            );
+        }
+        r.summarise(&mut s, QualityPreset::Low, &waves);
+        assert!(
+            s.contains("frame 5.0 ms") && s.contains("GPU 3.0 ms | 7 draws"),
+            "{s}"
+        );
+    }
+}
