@@ -128,6 +128,30 @@ mod tests {
     use super::*;
 
     #[test]
+    fn wave_tweaks_apply_and_out_of_range_values_are_refused() {
+        let cfg = crate::sim::OceanConfig::single(16, 50.0).unwrap();
+        let mut sim = Simulation::new(cfg, 1).unwrap();
+        let w0 = sim.config().waves;
+        apply_wave_tweak(&mut sim, Tweak::WindSpeed(2.0));
+        assert_eq!(sim.config().waves.wind_speed, w0.wind_speed + 2.0);
+        apply_wave_tweak(&mut sim, Tweak::WindSpeed(-1000.0));
+        assert_eq!(sim.config().waves.wind_speed, w0.wind_speed + 2.0);
+        apply_wave_tweak(&mut sim, Tweak::WindDirection(-15.0));
+        assert_eq!(
+            sim.config().waves.wind_direction_deg,
+            (w0.wind_direction_deg - 15.0).rem_euclid(360.0)
+        );
+        for _ in 0..40 {
+            apply_wave_tweak(&mut sim, Tweak::Choppiness(0.1));
+        }
+        assert_eq!(sim.config().waves.choppiness, 2.0);
+        apply_wave_tweak(&mut sim, Tweak::Preset(QualityPreset::Low));
+        assert_eq!(sim.config().waves.choppiness, 2.0);
+        // The simulation still steps with the new waves.
+        assert!(sim.step_blocking(0.5).max_displacement()[1] > 0.0);
+    }
+
+    #[test]
     fn summary_shows_medians_of_recent_frames() {
         let mut r = RecentFrames::default();
         let mut s = String::with_capacity(256);

@@ -3,7 +3,8 @@
 //! * `cargo xtask test [--quick] [--no-setup]`: the single test command. Installs what is
 //!   missing (apt packages, rustup components/targets), then runs fmt, clippy, host tests and
 //!   the aarch64 (NEON) tests under qemu, stopping at the first failure.
-//! * `cargo xtask run [ARGS]`: `cargo run --release --bin vr-ocean -- ARGS`.
+//! * `cargo xtask run [ARGS]`: `cargo run --release --bin vr-ocean -- ARGS`; without ARGS the
+//!   ocean window (headless PNGs in `./vr-ocean-headless/` when there is no display).
 //! * `cargo xtask bench [--criterion] [--no-setup] [ARGS]`: FFT benchmarks against FFTW.
 //!
 //! The target directory is never chosen here: nested cargo calls inherit `CARGO_TARGET_DIR`
@@ -30,6 +31,10 @@ const APT_PACKAGES: &[&str] = &[
     "libvulkan1",
     "mesa-vulkan-drivers",
     "vulkan-validationlayers",
+    // The window-mode test runs a real window on a virtual X server (`xvfb-run`, which needs
+    // `xauth`).
+    "xvfb",
+    "xauth",
 ];
 
 /// Extra packages for `cargo xtask bench` (the `fftw` feature links libfftw3f).
@@ -131,6 +136,8 @@ commands:
         --no-setup   install nothing; only run the checks
   run [ARGS...]
         cargo run --release --bin vr-ocean -- ARGS...
+        Without ARGS: the ocean in a window (keys in the README); with no display it
+        renders 144 frames headless into ./vr-ocean-headless/ and says so.
   bench [--criterion] [--no-setup] [--] [ARGS...]
         Installs libfftw3-dev if missing, then
           cargo run --release --features fftw --bin vr-ocean -- bench ARGS...
@@ -307,6 +314,9 @@ fn cmd_test(opts: &TestOpts) -> Result<()> {
 }
 
 fn cmd_run(args: &[String]) -> Result<()> {
+    if args.is_empty() {
+        say("opening the ocean window (WASD/QE to move, mouse button held to look, Esc quits; headless PNGs if there is no display)");
+    }
     let mut cmd = cargo();
     cmd.args(["run", "--release", "--bin", "vr-ocean"]);
     if !args.is_empty() {

@@ -1,0 +1,243 @@
+//! The window mode: a real window under Xvfb (lavapipe, validation layer required) shows both
+//! eyes side by side; bad sizes and a missing display are clear errors; live tweaks (wave
+//! changes, refused values, a preset switch) keep the frame loop running without validation
+//! errors.
+
+mod common;
+
+use std::path::Path;
+use std::process::Command;
+
+use common::{assert_rejected, gpu};
+use vr_ocean::app;
+use vr_ocean::lod::QualityPreset;
+use vr_ocean::render::{GpuContext, StereoMode, TargetImages};
+use vr_ocean::xr::mock::{EyeSize, HeadlessXr};
+use vr_ocean::xr::{FrameLoop, FrameState, Tweak, XrError, MAX_TWEAKS};
+
+#[test]
+fn bad_window_sizes_are_clear_errors() {
+    assert_rejected(&["window", "--size", "0x800"], &["window size 0x800"]);
+    assert_rejected(&["window", "--size", "1600x0"], &["window size"]);
+    assert_rejected(
+        &["window", "--size", "wide"],
+        &["window size", "WIDTHxHEIGHT"],
+    );
+    assert_rejected(&["window", "--frames", "0"], &["frames"]);
+}
+
+#[test]
+fn window_without_a_display_is_a_clear_error() {
+    let out = Command::new(env!("CARGO_BIN_EXE_vr-ocean"))
+        .args(["window", "--frames", "1"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .env("RUST_BACKTRACE", "0")
+        .output()
+        .expect("the binary runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert_ne!(out.status.code(), Some(101), "panicked: {err}");
+    assert!(err.contains("no display"), "{err}");
+}
+
+fn has_xvfb_run() -> bool {
+    Command::new("sh")
+        .args(["-c", "command -v xvfb-run"])
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
+/// Mean RGB of a `size`-pixel square at (x, y) of an RGBA image `w` pixels wide.
+fn mean(rgba: &[u8], w: u32, x: u32, y: u32, size: u32) -> [f32; 3] {
+    let mut sum = [0.0; 3];
+    for yy in y..y + size {
+        for xx in x..x + size {
+            let i = 4 * (yy * w + xx) as usize;
+            for c in 0..3 {
+                sum[c] += rgba[i + c] as f32;
+            }
+        }
+    }
+    sum.map(|s| s / (size * size) as f32)
+}
+
+#[test]
+fn window_under_xvfb_shows_both_eyes_without_validation_errors() {
+    if !has_xvfb_run() {
+        eprintln!("skipped: xvfb-run is not installed (apt install xvfb; `cargo xtask test` does)");
+        return;
+    }
+    let shot = common::scratch_path("window-shot.png");
+    let _ = std::fs::remove_file(&shot);
+    // 6 m above a moderate sea, so no crest reaches the eyes whatever the wall-clock time.
+    let path = common::scratch_path("window-path.txt");
+    std::fs::write(&path, "0  0 6 0  0 -8\n").unwrap();
+    let out = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1024x768x24"])
+        .arg(env!("CARGO_BIN_EXE_vr-ocean"))
+        .args([
+            "window",
+            "--validation",
+            "--size",
+            "320x160",
+            "--frames",
+            "60",
+            "--grid",
+            "64",
+            "--preset",
+            "low",
+            "--threads",
+            "1",
+            "--wind",
+            "7",
+            "--path",
+        ])
+        .arg(&path)
+        .arg("--screenshot")
+        .arg(&shot)
+        .env("RUST_BACKTRACE", "0")
+        .output()
+        .expect("xvfb-run runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success(),
+        "exit {:?}\nstdout:\n{stdout}\nstderr:\n{stderr}",
+        out.status.code()
+    );
+    assert!(stdout.contains("60 frames"), "{stdout}");
+    assert!(!stderr.contains("Vulkan validation"), "{stderr}");
+
+    let img = image::open(Path::new(&shot))
+        .expect("screenshot")
+        .to_rgba8();
+    let (w, h) = img.dimensions();
+    assert_eq!((w, h), (320, 160));
+    let px = img.as_raw();
+    // Each eye fills its half (square eyes in a 2:1 window): sky on top, sea below, no black.
+    let mut halves = Vec::new();
+    for x0 in [0, 160] {
+        let sky = mean(px, w, x0 + 72, 4, 16);
+        let sea = mean(px, w, x0 + 72, 140, 16);
+        assert!(
+            sky[2] > 120.0 && sky[2] >= sky[0],
+            "eye at x={x0}: sky {sky:?}"
+        );
+        assert!(
+            sea[2] > 20.0 && sea[2] < sky[2],
+            "eye at x={x0}: sea {sea:?}"
+        );
+        for y in 0..h {
+            for x in x0..x0 + 160 {
+                let i = 4 * (y * w + x) as usize;
+                assert!(
+                    px[i..i + 3] != [0, 0, 0],
+                    "black pixel at ({x}, {y}) of {}",
+                    shot.display()
+                );
+            }
+        }
+        let half: Vec<u8> = (0..h)
+            .flat_map(|y| {
+                let i = 4 * (y * w + x0) as usize;
+                px[i..i + 4 * 160].to_vec()
+            })
+            .collect();
+        halves.push(half);
+    }
+    // The eyes are 63 mm apart: their images differ.
+    let differing = halves[0]
+        .chunks(4)
+        .zip(halves[1].chunks(4))
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(differing > 160 * 160 / 20, "{differing} pixels differ");
+    let _ = std::fs::remove_file(&shot);
+    let _ = std::fs::remove_file(&path);
+}
+
+/// Headless frames with tweaks injected, as the window's keys would send them.
+struct Tweaking {
+    inner: HeadlessXr,
+    script: Vec<(u64, Vec<Tweak>)>,
+}
+
+impl FrameLoop for Tweaking {
+    fn gpu(&self) -> &GpuContext {
+        self.inner.gpu()
+    }
+    fn targets(&self) -> TargetImages<'_> {
+        self.inner.targets()
+    }
+    fn begin_frame(&mut self) -> Result<Option<FrameState>, XrError> {
+        let mut state = self.inner.begin_frame()?;
+        if let Some(s) = state.as_mut() {
+            for (frame, tweaks) in &self.script {
+                if *frame == s.index {
+                    assert!(tweaks.len() <= MAX_TWEAKS);
+                    for (slot, t) in s.tweaks.iter_mut().zip(tweaks) {
+                        *slot = Some(*t);
+                    }
+                }
+            }
+        }
+        Ok(state)
+    }
+    fn acquire_image(&mut self) -> Result<u32, XrError> {
+        self.inner.acquire_image()
+    }
+    fn release_image(&mut self) -> Result<(), XrError> {
+        self.inner.release_image()
+    }
+    fn end_frame(&mut self, frame: &FrameState) -> Result<(), XrError> {
+        self.inner.end_frame(frame)
+    }
+}
+
+#[test]
+fn live_tweaks_change_waves_refuse_bad_values_and_switch_presets() {
+    let inner = HeadlessXr::new(
+        &gpu::validated(),
+        EyeSize::new(64, 64).unwrap(),
+        gpu::standing(1.7, 0.0, -8.0),
+        10,
+    )
+    .unwrap_or_else(|e| panic!("cannot start headless Vulkan (lavapipe): {e}"));
+    let log = inner.gpu().validation.clone().expect("validation layer");
+    let mut xr = Tweaking {
+        inner,
+        script: vec![
+            (
+                2,
+                vec![
+                    Tweak::WindSpeed(2.0),
+                    Tweak::WindSpeed(-1000.0), // refused: wind must stay > 0
+                    Tweak::Choppiness(5.0),    // refused: choppiness in [0, 2]
+                    Tweak::WindDirection(-30.0),
+                ],
+            ),
+            (4, vec![Tweak::Preset(QualityPreset::Medium)]),
+            (6, vec![Tweak::Preset(QualityPreset::Medium)]), // already: nothing to do
+            (7, vec![Tweak::Preset(QualityPreset::Low)]),
+        ],
+    };
+    let opts = gpu::small_options(StereoMode::Multiview, vec![9]);
+    let mut frames = Vec::new();
+    struct Keep<'a>(&'a mut Vec<Vec<u8>>);
+    impl app::RunHooks for Keep<'_> {
+        fn capture(&mut self, c: &app::Capture<'_>) -> Result<(), app::AppError> {
+            self.0.push(c.eyes[0].to_vec());
+            Ok(())
+        }
+    }
+    let report = app::run(&mut xr, &opts, &mut Keep(&mut frames)).expect("run with tweaks");
+    drop(xr);
+    assert_eq!(report.frames, 10);
+    assert_eq!(log.errors(), 0, "validation errors: {:?}", log.messages());
+    // The frame after the last switch is a normal picture (sky on top, no black pixels).
+    let eye = &frames[0];
+    assert!(eye.chunks(4).all(|p| p[..3] != [0, 0, 0]));
+    assert!(eye[2] > 120, "sky {:?}", &eye[..4]);
+}
