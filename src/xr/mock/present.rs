@@ -162,8 +162,6 @@ impl Presenter {
 
     /// Re-creates the swapchain for a window of `size`; false when it has no area (minimised).
     fn recreate(&mut self, ctx: &GpuContext, size: vk::Extent2D) -> Result<bool, RenderError> {
-        // Not the steady state: a resize may stall once.
-        ctx.wait_idle();
         let caps = unsafe {
             self.surface_fn
                 .get_physical_device_surface_capabilities(ctx.physical, self.surface)
@@ -189,6 +187,8 @@ impl Presenter {
             self.stale = true;
             return Ok(false);
         }
+        // Not the steady state: a resize may stall once (the old images may still be in use).
+        ctx.wait_idle();
         if !caps
             .supported_usage_flags
             .contains(vk::ImageUsageFlags::TRANSFER_DST)

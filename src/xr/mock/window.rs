@@ -339,6 +339,12 @@ impl WindowXr {
             } => OpenError::Unavailable(
                 "the Vulkan driver cannot draw to windows (surface extensions missing)".into(),
             ),
+            RenderError::Vk {
+                call: "vkCreateDevice",
+                result: vk::Result::ERROR_EXTENSION_NOT_PRESENT,
+            } => OpenError::Unavailable(
+                "the Vulkan device cannot present to windows (no VK_KHR_swapchain)".into(),
+            ),
             e => OpenError::Failed(e.into()),
         })?;
         // SAFETY: the handles belong to `window`, which outlives the surface (destroyed in
