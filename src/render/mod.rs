@@ -4,6 +4,7 @@
 //! backend in `xr` owns the target images and hands them in.
 //!
 //! - [`context`]: instance, device, queue, validation-error counting.
+//! - [`commands`]: command pools, buffers and fences.
 //! - [`memory`]: buffers and images with their own memory.
 //! - [`pipeline`]: the stereo render pass and the ocean and sky pipelines.
 //! - [`camera`]: reversed-Z projections and the uniform block.
@@ -12,6 +13,7 @@
 //! - [`shaders`]: SPIR-V compiled from `shaders/` by `build.rs`.
 
 pub mod camera;
+pub mod commands;
 pub mod context;
 pub mod error;
 pub mod memory;
@@ -31,25 +33,9 @@ use ash::vk;
 /// read-back only, never in the frame loop.
 pub fn one_shot(ctx: &GpuContext, f: impl FnOnce(vk::CommandBuffer)) -> Result<(), RenderError> {
     let d = &ctx.device;
-    let pool = unsafe {
-        d.create_command_pool(
-            &vk::CommandPoolCreateInfo::default()
-                .queue_family_index(ctx.queue_family)
-                .flags(vk::CommandPoolCreateFlags::TRANSIENT),
-            None,
-        )
-    }
-    .map_err(RenderError::vk("vkCreateCommandPool"))?;
+    let pool = commands::command_pool(ctx, vk::CommandPoolCreateFlags::TRANSIENT)?;
     let result = (|| {
-        let cmd = unsafe {
-            d.allocate_command_buffers(
-                &vk::CommandBufferAllocateInfo::default()
-                    .command_pool(pool)
-                    .level(vk::CommandBufferLevel::PRIMARY)
-                    .command_buffer_count(1),
-            )
-        }
-        .map_err(RenderError::vk("vkAllocateCommandBuffers"))?[0];
+        let cmd = commands::primary_buffers(ctx, pool, 1)?[0];
         unsafe {
             d.begin_command_buffer(
                 cmd,
@@ -60,8 +46,7 @@ pub fn one_shot(ctx: &GpuContext, f: impl FnOnce(vk::CommandBuffer)) -> Result<(
         .map_err(RenderError::vk("vkBeginCommandBuffer"))?;
         f(cmd);
         unsafe { d.end_command_buffer(cmd) }.map_err(RenderError::vk("vkEndCommandBuffer"))?;
-        let fence = unsafe { d.create_fence(&vk::FenceCreateInfo::default(), None) }
-            .map_err(RenderError::vk("vkCreateFence"))?;
+        let fence = commands::fence(ctx, false)?;
         let cmds = [cmd];
         let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
         let r = unsafe { d.queue_submit(ctx.queue, &submit, fence) }

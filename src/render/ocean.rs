@@ -17,6 +17,7 @@ use ash::vk;
 use glam::Vec3;
 
 use super::camera::Globals;
+use super::commands;
 use super::context::GpuContext;
 use super::error::RenderError;
 use super::memory::{create_view, image_barrier, Buffer, Image, ImageDesc};
@@ -852,31 +853,9 @@ impl Slot {
         normal_sampler: vk::Sampler,
     ) -> Result<Self, RenderError> {
         let d = &ctx.device;
-        let pool = unsafe {
-            d.create_command_pool(
-                &vk::CommandPoolCreateInfo::default()
-                    .queue_family_index(ctx.queue_family)
-                    .flags(vk::CommandPoolCreateFlags::TRANSIENT),
-                None,
-            )
-        }
-        .map_err(RenderError::vk("vkCreateCommandPool"))?;
-        let cmd = unsafe {
-            d.allocate_command_buffers(
-                &vk::CommandBufferAllocateInfo::default()
-                    .command_pool(pool)
-                    .level(vk::CommandBufferLevel::PRIMARY)
-                    .command_buffer_count(1),
-            )
-        }
-        .map_err(RenderError::vk("vkAllocateCommandBuffers"))?[0];
-        let fence = unsafe {
-            d.create_fence(
-                &vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED),
-                None,
-            )
-        }
-        .map_err(RenderError::vk("vkCreateFence"))?;
+        let pool = commands::command_pool(ctx, vk::CommandPoolCreateFlags::TRANSIENT)?;
+        let cmd = commands::primary_buffers(ctx, pool, 1)?[0];
+        let fence = commands::fence(ctx, true)?;
         let staging = Buffer::new(ctx, staging_size, vk::BufferUsageFlags::TRANSFER_SRC, true)?;
         let instances = Buffer::new(
             ctx,

@@ -11,7 +11,7 @@ use ash::vk;
 
 use super::COLOUR_FORMAT;
 use crate::render::memory::{image_barrier, Buffer};
-use crate::render::{GpuContext, RenderError};
+use crate::render::{commands, GpuContext, RenderError};
 
 /// Frames the blit may run ahead of the GPU.
 const FRAMES_IN_FLIGHT: usize = 2;
@@ -121,35 +121,13 @@ impl Presenter {
             self.filter = vk::Filter::LINEAR;
         }
         let d = &ctx.device;
-        self.pool = unsafe {
-            d.create_command_pool(
-                &vk::CommandPoolCreateInfo::default()
-                    .queue_family_index(ctx.queue_family)
-                    .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER),
-                None,
-            )
-        }
-        .map_err(RenderError::vk("vkCreateCommandPool"))?;
-        let cmds = unsafe {
-            d.allocate_command_buffers(
-                &vk::CommandBufferAllocateInfo::default()
-                    .command_pool(self.pool)
-                    .level(vk::CommandBufferLevel::PRIMARY)
-                    .command_buffer_count(FRAMES_IN_FLIGHT as u32),
-            )
-        }
-        .map_err(RenderError::vk("vkAllocateCommandBuffers"))?;
+        self.pool = commands::command_pool(ctx, vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER)?;
+        let cmds = commands::primary_buffers(ctx, self.pool, FRAMES_IN_FLIGHT as u32)?;
         for (f, cmd) in self.frames.iter_mut().zip(cmds) {
             f.cmd = cmd;
             f.acquired = unsafe { d.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }
                 .map_err(RenderError::vk("vkCreateSemaphore"))?;
-            f.fence = unsafe {
-                d.create_fence(
-                    &vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED),
-                    None,
-                )
-            }
-            .map_err(RenderError::vk("vkCreateFence"))?;
+            f.fence = commands::fence(ctx, true)?;
         }
         self.recreate(ctx, size)?;
         Ok(())
