@@ -19,7 +19,7 @@ use vr_ocean::sim::{
     Surfaces, WaveParams,
 };
 use vr_ocean::xr::mock::window::{OpenError, WindowOptions, WindowSize, WindowXr, KEYS_HELP};
-use vr_ocean::xr::mock::{CameraPath, EyeSize, HeadlessXr};
+use vr_ocean::xr::mock::{self, CameraPath, EyeSize, HeadlessXr};
 use vr_ocean::xr::FrameLoop;
 
 #[derive(Parser)]
@@ -304,7 +304,7 @@ struct HeadlessArgs {
     #[arg(long, allow_hyphen_values = true, default_value = "640x640")]
     size: String,
     /// Camera path file (format in `src/xr/mock/path.rs` and the README); default: standing
-    /// 1.7 m above the sea, looking slightly down at the horizon.
+    /// on a deck 4.5 m above the mean sea level, looking slightly down at the horizon.
     #[arg(long)]
     path: Option<PathBuf>,
     /// Frames to save as PNG (comma-separated); default: the last one.
@@ -401,7 +401,7 @@ fn headless_cmd(a: HeadlessArgs) -> CmdResult {
     }
     let path = match &a.path {
         Some(p) => CameraPath::load(p)?,
-        None => CameraPath::still(Vec3::new(0.0, 1.7, 0.0), 0.0, -8.0),
+        None => CameraPath::still(mock::START_POSITION, 0.0, mock::START_PITCH),
     };
     let capture = if a.capture.is_empty() {
         vec![a.frames - 1]

@@ -20,6 +20,13 @@ use crate::render::memory::{Image, ImageDesc};
 use crate::render::{ContextOptions, GpuContext, RenderError, TargetImages};
 pub use path::{CameraPath, PathError};
 
+/// Where a session without a path starts: a standing head (1.7 m) on a deck 2.8 m above the
+/// mean sea level, so crests of a 10-15 m/s sea (up to about 2-3 m) stay below the eyes.
+pub const START_POSITION: glam::Vec3 = glam::Vec3::new(0.0, 4.5, 0.0);
+
+/// The starting pitch (degrees): slightly down, the horizon in the upper third of the view.
+pub const START_PITCH: f32 = -8.0;
+
 /// Inter-pupillary distance (m).
 pub const IPD: f32 = 0.063;
 

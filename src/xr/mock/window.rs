@@ -13,7 +13,6 @@
 use std::time::{Duration, Instant};
 
 use ash::vk;
-use glam::Vec3;
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, WindowEvent};
@@ -292,7 +291,7 @@ impl WindowXr {
                 .with_inner_size(PhysicalSize::new(size.width, size.height)),
             window: None,
             error: None,
-            controls: FlyControls::new(Vec3::new(0.0, 1.7, 0.0), 0.0, -8.0),
+            controls: FlyControls::new(super::START_POSITION, 0.0, super::START_PITCH),
             pending: [None; PENDING_TWEAKS],
             quit: false,
             resized: false,
@@ -577,7 +576,7 @@ mod tests {
             attributes: Window::default_attributes(),
             window: None,
             error: None,
-            controls: FlyControls::new(Vec3::Y, 0.0, 0.0),
+            controls: FlyControls::new(glam::Vec3::Y, 0.0, 0.0),
             pending: [None; PENDING_TWEAKS],
             quit: false,
             resized: false,
