@@ -8,7 +8,6 @@ use std::time::Instant;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use glam::Vec3;
 use vr_ocean::app::{self, FrameTimes, RunOptions};
 use vr_ocean::bench::{self, BenchOptions};
 use vr_ocean::export;
