@@ -41,6 +41,41 @@ pub fn pack_rgba8(nx: f32, nz: f32, foam: f32, smoothness: f32) -> u32 {
         | (unorm8(smoothness) << 24)
 }
 
+/// IEEE binary16 bits of `x`, rounded to nearest even: what F16C, NEON's `fcvtn` and `half`
+/// compute for every non-NaN input (NaN becomes the quiet NaN 0x7e00, sign kept). Written
+/// branch-free in integer and f32 arithmetic so that it vectorizes inside the surface loop at
+/// every SIMD tier (the `half` slice conversion ran as a separate, non-inlined pass).
+#[inline(always)]
+pub fn f16_bits(x: f32) -> u16 {
+    let bits = x.to_bits();
+    let sign = (bits >> 16) & 0x8000;
+    let a = bits & 0x7fff_ffff;
+    // Normal results: rebias the exponent (127 → 15) and round the 13 dropped mantissa bits to
+    // nearest even; a carry out of the mantissa correctly bumps the exponent (up to infinity).
+    let normal = a
+        .wrapping_sub((127 - 15) << 23)
+        .wrapping_add(0xfff + ((a >> 13) & 1))
+        >> 13;
+    // Subnormal results (|x| < 2⁻¹⁴): in x + 0.5 one ulp is 2⁻²⁴, the f16 subnormal step, so the
+    // f32 add rounds to nearest even and leaves the f16 mantissa in the low bits.
+    let subnormal = (f32::from_bits(a) + 0.5)
+        .to_bits()
+        .wrapping_sub(0.5f32.to_bits());
+    let r = if a >= (127 + 16) << 23 {
+        // |x| ≥ 2¹⁶ (or Inf, NaN): infinity or NaN.
+        if a > 0x7f80_0000 {
+            0x7e00
+        } else {
+            0x7c00
+        }
+    } else if a < (127 - 14) << 23 {
+        subnormal
+    } else {
+        normal
+    };
+    (r | sign) as u16
+}
+
 /// Texel offset of mip `level` in the contiguous chain (eq. 55):
 /// (4N² − 1)/3 − (4^(log₂N + 1 − m) − 1)/3.
 #[inline]
@@ -77,6 +112,34 @@ mod tests {
         assert_eq!((p >> 8) & 0xff, 0);
         assert_eq!((p >> 16) & 0xff, 128);
         assert_eq!(p >> 24, 255);
+    }
+
+    #[test]
+    fn f16_bits_match_half_for_every_non_nan_input_tried() {
+        let check = |bits: u32| {
+            let x = f32::from_bits(bits);
+            if !x.is_nan() {
+                assert_eq!(
+                    f16_bits(x),
+                    half::f16::from_f32(x).to_bits(),
+                    "{x:e} ({bits:#x})"
+                );
+            }
+        };
+        // Every f32 around the subnormal/normal boundary and the overflow edge, both signs.
+        for exp in (100..=114).chain(140..=143) {
+            for m in 0..1u32 << 23 {
+                check((exp << 23) | m);
+                check(0x8000_0000 | (exp << 23) | m);
+            }
+        }
+        // A sweep over all bit patterns.
+        for bits in (0..=u32::MAX).step_by(61) {
+            check(bits);
+        }
+        assert_eq!(f16_bits(f32::NAN), 0x7e00);
+        assert_eq!(f16_bits(f32::INFINITY), 0x7c00);
+        assert_eq!(f16_bits(-0.0), 0x8000);
     }
 
     #[test]

@@ -125,30 +125,62 @@ struct SurfaceConsts {
     smooth: f32,
 }
 
-/// One row of the surface stage.
-struct SurfaceRow<'a> {
+/// What one row of the surface stage reads.
+#[derive(Clone, Copy)]
+struct RowIn<'a> {
     fields: [&'a [f32]; 8],
-    disp: &'a mut [[f32; 4]],
-    floats: &'a mut [[f32; 4]],
-    rgba: &'a mut [u32],
-    foam: &'a mut [f32],
     row_sign: f32,
     k: SurfaceConsts,
 }
 
+/// What one row of the surface stage writes.
+struct RowOut<'a> {
+    /// RGBA16F displacement as binary16 bits.
+    disp16: &'a mut [[u16; 4]],
+    /// Level-0 roughness-scaled normal x, y, z and foam, one plane each (mip level 1 reads them).
+    floats: [&'a mut [f32]; 4],
+    /// f32 Dx, h, Dz, J planes when the surface keeps float copies; else empty.
+    disp: [&'a mut [f32]; 4],
+    rgba: &'a mut [u32],
+    foam: &'a mut [f32],
+    /// Receives the row's max |Dx|, |h|, |Dz|.
+    max: &'a mut [f32; 3],
+}
+
+/// One texel row of stages 5-6. Every output is a plane or a plain integer array, so the loop
+/// vectorizes with no shuffles but the RGBA16F interleave. The outputs are separate arguments:
+/// only those carry `noalias` (struct fields do not), and without it LLVM guards the loop with
+/// pairwise overlap checks of all eleven outputs, which cost more than a 256-texel row.
 #[inline(always)]
-fn surface_row_kernel(row: SurfaceRow<'_>) -> [f32; 3] {
-    let n = row.disp.len();
+#[allow(clippy::too_many_arguments)]
+fn surface_row_kernel<const KEEP: bool>(
+    row: RowIn<'_>,
+    disp16: &mut [[u16; 4]],
+    p0: &mut [f32],
+    p1: &mut [f32],
+    p2: &mut [f32],
+    p3: &mut [f32],
+    d0: &mut [f32],
+    d1: &mut [f32],
+    d2: &mut [f32],
+    d3: &mut [f32],
+    rgba: &mut [u32],
+    foam: &mut [f32],
+    max: &mut [f32; 3],
+) {
+    let n = rgba.len();
     let [f0r, f0i, f1r, f1i, f2r, f2i, f3r, f3i] = row.fields;
     // Exact-length slices let the compiler drop bounds checks and vectorize.
     let (f0r, f0i, f1r, f1i) = (&f0r[..n], &f0i[..n], &f1r[..n], &f1i[..n]);
     let (f2r, f2i, f3r, f3i) = (&f2r[..n], &f2i[..n], &f3r[..n], &f3i[..n]);
-    let (floats, rgba, foam) = (&mut row.floats[..n], &mut row.rgba[..n], &mut row.foam[..n]);
-    let disp = row.disp;
+    let (foam, disp16) = (&mut foam[..n], &mut disp16[..n]);
+    let (p0, p1, p2, p3) = (&mut p0[..n], &mut p1[..n], &mut p2[..n], &mut p3[..n]);
+    let m = if KEEP { n } else { 0 };
+    let (d0, d1, d2, d3) = (&mut d0[..m], &mut d1[..m], &mut d2[..m], &mut d3[..m]);
     let k = row.k;
     // Maxima of |Dx|, |h|, |Dz| as the bits of non-negative floats, whose integer order is
     // their numeric order: an integer max reduction vectorizes, a float one does not.
-    let mut m = [0u32; 3];
+    let mut mx = [0u32; 3];
     for col in 0..n {
         // (−1)^(x+y) undoes the centred spectrum (eq. 42-43).
         let s = if col & 1 == 0 {
@@ -182,28 +214,77 @@ fn surface_row_kernel(row: SurfaceRow<'_>) -> [f32; 3] {
         let (nx, ny, nz) = (nx * inv, if ok { ny * inv } else { 1.0 }, nz * inv);
         let f = (foam[col] * k.keep + k.grow * (k.threshold - j).max(0.0)).min(1.0);
         foam[col] = f;
-        disp[col] = [dx, h, dz, j];
-        floats[col] = [nx * k.len, ny * k.len, nz * k.len, f];
+        disp16[col] = [
+            pack::f16_bits(dx),
+            pack::f16_bits(h),
+            pack::f16_bits(dz),
+            pack::f16_bits(j),
+        ];
+        if KEEP {
+            (d0[col], d1[col], d2[col], d3[col]) = (dx, h, dz, j);
+        }
+        (p0[col], p1[col], p2[col], p3[col]) = (nx * k.len, ny * k.len, nz * k.len, f);
         rgba[col] = pack::pack_rgba8(nx, nz, f, k.smooth);
         let abs_bits = |v: f32| v.to_bits() & 0x7fff_ffff;
-        m = [
-            m[0].max(abs_bits(dx)),
-            m[1].max(abs_bits(h)),
-            m[2].max(abs_bits(dz)),
+        mx = [
+            mx[0].max(abs_bits(dx)),
+            mx[1].max(abs_bits(h)),
+            mx[2].max(abs_bits(dz)),
         ];
     }
-    m.map(f32::from_bits)
+    *max = mx.map(f32::from_bits);
 }
 
-#[inline(always)]
-fn surface_row_into(row: SurfaceRow<'_>, max: &mut [f32; 3]) {
-    *max = surface_row_kernel(row);
+macro_rules! surface_variant {
+    ($(#[$m:meta])* $name:ident, $keep:literal) => {
+        dispatch!(
+            $(#[$m])*
+            #[allow(clippy::too_many_arguments)]
+            fn $name(
+                row: RowIn<'_>,
+                disp16: &mut [[u16; 4]],
+                p0: &mut [f32],
+                p1: &mut [f32],
+                p2: &mut [f32],
+                p3: &mut [f32],
+                d0: &mut [f32],
+                d1: &mut [f32],
+                d2: &mut [f32],
+                d3: &mut [f32],
+                rgba: &mut [u32],
+                foam: &mut [f32],
+                max: &mut [f32; 3],
+            ) => surface_row_kernel::<$keep>
+        );
+    };
 }
-
-dispatch!(
-    /// [`surface_row_kernel`] behind runtime ISA dispatch; stores the row's max |Dx|, |h|, |Dz|.
-    fn surface_row(row: SurfaceRow<'_>, max: &mut [f32; 3]) => surface_row_into
+surface_variant!(
+    /// [`surface_row_kernel`] behind runtime ISA dispatch.
+    surface_row_skip,
+    false
 );
+surface_variant!(
+    /// [`surface_row_kernel`] that also writes the f32 displacement, behind ISA dispatch.
+    surface_row_keep,
+    true
+);
+
+/// Runs one row of the surface stage (writing `out.disp` when it is not empty).
+fn surface_row(row: RowIn<'_>, out: RowOut<'_>) {
+    let RowOut {
+        disp16,
+        floats: [p0, p1, p2, p3],
+        disp: [d0, d1, d2, d3],
+        rgba,
+        foam,
+        max,
+    } = out;
+    if d0.is_empty() {
+        surface_row_skip(row, disp16, p0, p1, p2, p3, d0, d1, d2, d3, rgba, foam, max)
+    } else {
+        surface_row_keep(row, disp16, p0, p1, p2, p3, d0, d1, d2, d3, rgba, foam, max)
+    }
+}
 
 /// Row `b / n` of one plane of `f`.
 fn plane_row(f: &SplitField, im: bool, b: usize, n: usize) -> &[f32] {
@@ -234,28 +315,46 @@ pub fn finalize(
         smooth: pack::smoothness(len),
     };
     // Rows go in pairs so mip level 1 is averaged while both source rows are still in cache.
-    // Level-0 floats and f32 displacement live in a per-pair stack buffer, copied out only when
-    // the surface keeps float copies.
+    // Level-0 floats (and the f32 displacement) live in a per-task stack buffer as planes,
+    // copied out only when the surface keeps float copies. Each task runs several pairs with
+    // one buffer, cleared once.
     let side1 = n / 2;
     let l1 = out.floats_offset(1);
     let (level0_floats, level1_floats) = out.normal_floats.split_at_mut(l1);
     let level1_floats = &mut level1_floats[..side1 * side1];
     let (level0_rgba, rest) = out.normal_foam.split_at_mut(n * n);
     let level1_rgba = &mut rest[..side1 * side1];
-    let process_pair = |pair: usize, p: Pair<'_>, kept: Option<Kept<'_>>, buf: &mut [[f32; 4]]| {
-        let (floats, disp) = buf.split_at_mut(2 * n);
-        let rows = disp
+    let keep = out.base == FloatCopies::Keep;
+    let process_pair = |pair: usize, p: Pair<'_>, buf: &mut [f32]| {
+        // Plane q of row i of the pair at (2q + i)·n: floats, then (kept) displacement.
+        let (floats, disp) = buf.split_at_mut(8 * n);
+        let mut fl = floats.chunks_exact_mut(n);
+        let mut fl: [[&mut [f32]; 2]; 4] = std::array::from_fn(|_| {
+            let a = fl.next().expect("8 rows");
+            [a, fl.next().expect("8 rows")]
+        });
+        let mut dl = disp.chunks_exact_mut(n);
+        let mut dl: [[&mut [f32]; 2]; 4] = std::array::from_fn(|_| {
+            if keep {
+                let a = dl.next().expect("8 rows");
+                [a, dl.next().expect("8 rows")]
+            } else {
+                [&mut [][..], &mut [][..]]
+            }
+        });
+        let disp16 = bytemuck::cast_slice_mut::<[f16; 4], [u16; 4]>(p.disp16);
+        let rows = disp16
             .chunks_mut(n)
-            .zip(p.disp16.chunks_mut(n))
-            .zip(floats.chunks_mut(n))
             .zip(p.rgba.chunks_mut(n))
             .zip(p.foam.chunks_mut(n))
             .zip(p.row_max.iter_mut());
-        for (i, (((((disp, disp16), floats), rgba), foam), rmax)) in rows.enumerate() {
+        for (i, (((disp16, rgba), foam), rmax)) in rows.enumerate() {
             let row = 2 * pair + i;
             let b = row * n;
             let r = |f, im| plane_row(f, im, b, n);
-            let surface = SurfaceRow {
+            let [p0, p1, p2, p3] = &mut fl;
+            let [d0, d1, d2, d3] = &mut dl;
+            let input = RowIn {
                 fields: [
                     r(&fields[0], false),
                     r(&fields[0], true),
@@ -266,43 +365,57 @@ pub fn finalize(
                     r(&fields[3], false),
                     r(&fields[3], true),
                 ],
-                disp: &mut *disp,
-                floats,
-                rgba,
-                foam,
                 row_sign: if row & 1 == 0 { 1.0 } else { -1.0 },
                 k,
             };
-            surface_row(surface, rmax);
-            // The row is still in L1: convert it to RGBA16F here, not in another pass.
-            half::slice::HalfFloatSliceExt::convert_from_f32_slice(
-                bytemuck::cast_slice_mut::<[f16; 4], f16>(disp16),
-                bytemuck::cast_slice::<[f32; 4], f32>(disp),
-            );
+            let out = RowOut {
+                disp16,
+                floats: [&mut *p0[i], &mut *p1[i], &mut *p2[i], &mut *p3[i]],
+                disp: [&mut *d0[i], &mut *d1[i], &mut *d2[i], &mut *d3[i]],
+                rgba,
+                foam,
+                max: rmax,
+            };
+            surface_row(input, out);
         }
-        let (src0, src1) = floats.split_at(n);
-        mip_row(MipRow {
-            src0,
-            src1,
-            dst: p.floats1,
-            rgba: p.rgba1,
-        });
-        if let Some(kept) = kept {
-            kept.floats.copy_from_slice(floats);
-            kept.disp.copy_from_slice(disp);
+        let [p0, p1, p2, p3] = &fl;
+        mip_planes(
+            [p0[0], p0[1], p1[0], p1[1], p2[0], p2[1], p3[0], p3[1]],
+            p.floats1,
+            p.rgba1,
+        );
+        if let Some(kept) = p.kept {
+            let interleave = |dst: &mut [[f32; 4]], planes: &[[&mut [f32]; 2]; 4]| {
+                for (i, row) in dst.chunks_mut(n).enumerate() {
+                    for (x, v) in row.iter_mut().enumerate() {
+                        *v = std::array::from_fn(|q| planes[q][i][x]);
+                    }
+                }
+            };
+            interleave(kept.floats, &fl);
+            interleave(kept.disp, &dl);
         }
     };
-    let pair = |pair: usize, p: Pair<'_>, kept: Option<Kept<'_>>| {
-        with_pair_buffer(n, |buf| process_pair(pair, p, kept, buf))
+    let pairs = n / 2;
+    // A few tasks per thread balance the load; fewer would leave a thread idle at the end.
+    let tasks = (4 * rayon::current_num_threads()).min(pairs);
+    let per_task = pairs.div_ceil(tasks);
+    let task = |t: usize, chunk: Pair<'_>| {
+        with_pair_buffer(n, keep, |buf| {
+            for (i, p) in chunk.split(n, side1).enumerate() {
+                process_pair(t * per_task + i, p, buf);
+            }
+        })
     };
-    let pairs = out
+    let rows = 2 * per_task;
+    let chunks = out
         .displacement_f16
-        .par_chunks_mut(2 * n)
-        .zip(level0_rgba.par_chunks_mut(2 * n))
-        .zip(foam.par_chunks_mut(2 * n))
-        .zip(out.row_max.par_chunks_mut(2))
-        .zip(level1_floats.par_chunks_mut(side1))
-        .zip(level1_rgba.par_chunks_mut(side1))
+        .par_chunks_mut(rows * n)
+        .zip(level0_rgba.par_chunks_mut(rows * n))
+        .zip(foam.par_chunks_mut(rows * n))
+        .zip(out.row_max.par_chunks_mut(rows))
+        .zip(level1_floats.par_chunks_mut(per_task * side1))
+        .zip(level1_rgba.par_chunks_mut(per_task * side1))
         .map(
             |(((((disp16, rgba), foam), row_max), floats1), rgba1)| Pair {
                 disp16,
@@ -311,15 +424,24 @@ pub fn finalize(
                 row_max,
                 floats1,
                 rgba1,
+                kept: None,
             },
         )
         .enumerate();
     match out.base {
-        FloatCopies::Keep => pairs
-            .zip(level0_floats.par_chunks_mut(2 * n))
-            .zip(out.displacement.par_chunks_mut(2 * n))
-            .for_each(|(((i, p), floats), disp)| pair(i, p, Some(Kept { floats, disp }))),
-        FloatCopies::Skip => pairs.for_each(|(i, p)| pair(i, p, None)),
+        FloatCopies::Keep => chunks
+            .zip(level0_floats.par_chunks_mut(rows * n))
+            .zip(out.displacement.par_chunks_mut(rows * n))
+            .for_each(|(((t, p), floats), disp)| {
+                task(
+                    t,
+                    Pair {
+                        kept: Some(Kept { floats, disp }),
+                        ..p
+                    },
+                )
+            }),
+        FloatCopies::Skip => chunks.for_each(|(t, p)| task(t, p)),
     }
     out.max_displacement = out.row_max.iter().fold([0.0f32; 3], |a, r| {
         [a[0].max(r[0]), a[1].max(r[1]), a[2].max(r[2])]
@@ -328,17 +450,24 @@ pub fn finalize(
     out.time = time;
 }
 
-/// Runs `f` on a zeroed stack buffer of exactly 4·`n` texels (one row pair's level-0 floats
-/// and f32 displacement) for the common sizes, so no step zeroes more than its rows need.
-fn with_pair_buffer<R>(n: usize, f: impl FnOnce(&mut [[f32; 4]]) -> R) -> R {
+/// A cache line of f32: the element of the pair buffer, so its planes are 64-byte aligned.
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+#[repr(C, align(64))]
+struct Line([f32; 16]);
+
+/// Runs `f` on a zeroed stack buffer for one row pair: 8 planes of `n` floats (level-0
+/// normals and foam of both rows), 16 with `keep` (also the f32 displacement). Sized in tiers
+/// so small grids don't clear more than they use; called once per task, not per pair.
+fn with_pair_buffer<R>(n: usize, keep: bool, f: impl FnOnce(&mut [f32]) -> R) -> R {
+    let len = if keep { 16 * n } else { 8 * n };
     if n <= 64 {
-        f(&mut [[0.0; 4]; 256][..4 * n])
+        f(&mut bytemuck::cast_slice_mut(&mut [Line([0.0; 16]); 64])[..len])
     } else if n <= 256 {
-        f(&mut [[0.0; 4]; 1024][..4 * n])
+        f(&mut bytemuck::cast_slice_mut(&mut [Line([0.0; 16]); 256])[..len])
     } else if n <= 512 {
-        f(&mut [[0.0; 4]; 2048][..4 * n])
+        f(&mut bytemuck::cast_slice_mut(&mut [Line([0.0; 16]); 512])[..len])
     } else {
-        f(&mut [[0.0; 4]; 4 * GridSize::MAX as usize][..4 * n])
+        f(&mut bytemuck::cast_slice_mut(&mut [Line([0.0; 16]); GridSize::MAX as usize])[..len])
     }
 }
 
@@ -348,7 +477,7 @@ struct Kept<'a> {
     disp: &'a mut [[f32; 4]],
 }
 
-/// The outputs of one pair of rows in the surface stage.
+/// The outputs of one or more consecutive row pairs in the surface stage.
 struct Pair<'a> {
     disp16: &'a mut [[f16; 4]],
     rgba: &'a mut [u32],
@@ -356,34 +485,94 @@ struct Pair<'a> {
     row_max: &'a mut [[f32; 3]],
     floats1: &'a mut [[f32; 4]],
     rgba1: &'a mut [u32],
+    kept: Option<Kept<'a>>,
 }
 
-/// One destination row of a mip level and the two source rows it averages.
-struct MipRow<'a> {
-    src0: &'a [[f32; 4]],
-    src1: &'a [[f32; 4]],
-    dst: &'a mut [[f32; 4]],
-    rgba: &'a mut [u32],
+impl<'a> Pair<'a> {
+    /// The single row pairs of a task's chunk (grid side `n`, level-1 side `side1`).
+    fn split(self, n: usize, side1: usize) -> impl Iterator<Item = Pair<'a>> {
+        let kept = self.kept.map(|k| {
+            k.floats
+                .chunks_mut(2 * n)
+                .zip(k.disp.chunks_mut(2 * n))
+                .map(|(floats, disp)| Kept { floats, disp })
+        });
+        let mut kept = kept.into_iter().flatten();
+        self.disp16
+            .chunks_mut(2 * n)
+            .zip(self.rgba.chunks_mut(2 * n))
+            .zip(self.foam.chunks_mut(2 * n))
+            .zip(self.row_max.chunks_mut(2))
+            .zip(self.floats1.chunks_mut(side1))
+            .zip(self.rgba1.chunks_mut(side1))
+            .map(
+                move |(((((disp16, rgba), foam), row_max), floats1), rgba1)| Pair {
+                    disp16,
+                    rgba,
+                    foam,
+                    row_max,
+                    floats1,
+                    rgba1,
+                    kept: kept.next(),
+                },
+            )
+    }
 }
 
+/// The RGBA8 texel of an averaged (unnormalized) normal and foam `v` (eq. 51, 53).
 #[inline(always)]
-fn mip_row_kernel(row: MipRow<'_>) {
-    let side = row.dst.len();
-    let (r0, r1) = (&row.src0[..2 * side], &row.src1[..2 * side]);
-    let rgba = &mut row.rgba[..side];
-    for (x, d) in row.dst.iter_mut().enumerate() {
-        let (a, b, c, e) = (r0[2 * x], r0[2 * x + 1], r1[2 * x], r1[2 * x + 1]);
-        let v: [f32; 4] = std::array::from_fn(|k| 0.25 * (a[k] + b[k] + c[k] + e[k]));
-        *d = v;
-        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-        let inv = if l > 1e-20 { 1.0 / l } else { 0.0 };
-        rgba[x] = pack::pack_rgba8(v[0] * inv, v[2] * inv, v[3], pack::smoothness(l));
+fn mip_texel(v: [f32; 4]) -> u32 {
+    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    let inv = if l > 1e-20 { 1.0 / l } else { 0.0 };
+    pack::pack_rgba8(v[0] * inv, v[2] * inv, v[3], pack::smoothness(l))
+}
+
+/// Mip level 1 from level 0 as planes: `src[2q + i]` is component q (normal x, y, z, foam) of
+/// source row i; writes one destination row of floats and RGBA8. Outputs are separate
+/// arguments so they carry `noalias` (see [`surface_row_kernel`]).
+#[inline(always)]
+fn mip_planes_kernel(src: [&[f32]; 8], dst: &mut [[f32; 4]], rgba: &mut [u32]) {
+    let side = rgba.len();
+    let s = src.map(|p| &p[..2 * side].as_chunks::<2>().0[..side]);
+    let dst = &mut dst[..side];
+    for x in 0..side {
+        let avg = |q: usize| {
+            let (a, b) = (s[2 * q][x], s[2 * q + 1][x]);
+            0.25 * (a[0] + a[1] + b[0] + b[1])
+        };
+        let v = [avg(0), avg(1), avg(2), avg(3)];
+        dst[x] = v;
+        rgba[x] = mip_texel(v);
+    }
+}
+
+dispatch!(
+    /// [`mip_planes_kernel`] behind runtime ISA dispatch.
+    fn mip_planes(src: [&[f32]; 8], dst: &mut [[f32; 4]], rgba: &mut [u32]) => mip_planes_kernel
+);
+
+/// One destination row of a mip level ≥ 2 from the two texel rows `src0`, `src1` above it.
+#[inline(always)]
+fn mip_row_kernel(src0: &[[f32; 4]], src1: &[[f32; 4]], dst: &mut [[f32; 4]], rgba: &mut [u32]) {
+    let side = rgba.len();
+    let (r0, r1) = (&src0[..2 * side], &src1[..2 * side]);
+    let (r0, r1) = (
+        &r0.as_chunks::<2>().0[..side],
+        &r1.as_chunks::<2>().0[..side],
+    );
+    let dst = &mut dst[..side];
+    for x in 0..side {
+        let ([a, b], [c, e]) = (r0[x], r1[x]);
+        let avg = |k: usize| 0.25 * (a[k] + b[k] + c[k] + e[k]);
+        let v = [avg(0), avg(1), avg(2), avg(3)];
+        dst[x] = v;
+        rgba[x] = mip_texel(v);
     }
 }
 
 dispatch!(
     /// [`mip_row_kernel`] behind runtime ISA dispatch.
-    fn mip_row(row: MipRow<'_>) => mip_row_kernel
+    fn mip_row(src0: &[[f32; 4]], src1: &[[f32; 4]], dst: &mut [[f32; 4]], rgba: &mut [u32]) => mip_row_kernel
 );
 
 /// Mip levels 2..=log₂N (level 1 is made with level 0) by unnormalized 2×2 box averaging
@@ -413,12 +602,12 @@ fn build_mips(out: &mut CascadeSurface) {
                     .enumerate()
                 {
                     let y = task * rows_per_task + i;
-                    mip_row(MipRow {
-                        src0: &src[2 * y * src_side..(2 * y + 1) * src_side],
-                        src1: &src[(2 * y + 1) * src_side..(2 * y + 2) * src_side],
-                        dst: drow,
-                        rgba: prow,
-                    });
+                    mip_row(
+                        &src[2 * y * src_side..(2 * y + 1) * src_side],
+                        &src[(2 * y + 1) * src_side..(2 * y + 2) * src_side],
+                        drow,
+                        prow,
+                    );
                 }
             });
     }
