@@ -533,14 +533,25 @@ fn mip_texel(v: [f32; 4]) -> u32 {
 #[inline(always)]
 fn mip_planes_kernel(src: [&[f32]; 8], dst: &mut [[f32; 4]], rgba: &mut [u32]) {
     let side = rgba.len();
-    let s = src.map(|p| &p[..2 * side].as_chunks::<2>().0[..side]);
+    // Named, exact-length texel-pair slices: with an array of slices LLVM lost their lengths,
+    // kept the bounds checks and ran half the row in a scalar epilogue.
+    fn pairs(p: &[f32], side: usize) -> &[[f32; 2]] {
+        &p[..2 * side].as_chunks::<2>().0[..side]
+    }
+    let [x0, x1, y0, y1, z0, z1, w0, w1] = src;
+    let (x0, x1) = (pairs(x0, side), pairs(x1, side));
+    let (y0, y1) = (pairs(y0, side), pairs(y1, side));
+    let (z0, z1) = (pairs(z0, side), pairs(z1, side));
+    let (w0, w1) = (pairs(w0, side), pairs(w1, side));
     let dst = &mut dst[..side];
     for x in 0..side {
-        let avg = |q: usize| {
-            let (a, b) = (s[2 * q][x], s[2 * q + 1][x]);
-            0.25 * (a[0] + a[1] + b[0] + b[1])
-        };
-        let v = [avg(0), avg(1), avg(2), avg(3)];
+        let avg = |a: [f32; 2], b: [f32; 2]| 0.25 * (a[0] + a[1] + b[0] + b[1]);
+        let v = [
+            avg(x0[x], x1[x]),
+            avg(y0[x], y1[x]),
+            avg(z0[x], z1[x]),
+            avg(w0[x], w1[x]),
+        ];
         dst[x] = v;
         rgba[x] = mip_texel(v);
     }
