@@ -327,8 +327,6 @@ impl OceanRenderer {
         } else {
             None
         };
-        unsafe { d.reset_fences(&[slot.fence]) }.map_err(RenderError::vk("vkResetFences"))?;
-
         // Uniforms.
         let mut g: Globals = bytemuck::Zeroable::zeroed();
         g.set_eyes(input.eyes);
@@ -443,6 +441,8 @@ impl OceanRenderer {
         let t2 = Instant::now();
         let cmds = [cmd];
         let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
+        // Reset only now: an error above leaves the fence signalled, so no later wait hangs.
+        unsafe { d.reset_fences(&[slot.fence]) }.map_err(RenderError::vk("vkResetFences"))?;
         unsafe { d.queue_submit(ctx.queue, &submit, slot.fence) }
             .map_err(RenderError::vk("vkQueueSubmit"))?;
         self.slots[slot_index].submitted = true;
