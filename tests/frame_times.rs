@@ -1,7 +1,8 @@
 //! Frame-time tests on lavapipe (validation layer on): per scenario p50/p95/p99 of frame
 //! total, sim step, sim wait, LOD, record, submit and GPU pass, printed as a table and written
 //! to `target/frame-times.json`. The gates are ratios measured in this run, with scenarios
-//! interleaved round by round so the host's drift hits them alike:
+//! interleaved round by round so the host's drift hits them alike (a ratio is the median over
+//! rounds of the ratio within each round):
 //! - multiview records half the draws of two-pass and its frame time is ≤ 1.05× two-pass;
 //! - frame time at ocean size 8192 m ≤ 1.25× that at 1024 m (cost grows with log(size));
 //! - the render thread's wait for simulation results has p95 < 0.5 ms when the sim step is
@@ -27,9 +28,11 @@ struct Scenario {
     size: f32,
     times: FrameTimes,
     draws: u32,
+    /// p50 frame time of each round, for paired per-round ratios.
+    round_p50: Vec<f64>,
 }
 
-const ROUNDS: usize = 4;
+const ROUNDS: usize = 6;
 const FRAMES: u64 = 36;
 const WARMUP: u64 = 6;
 
@@ -78,6 +81,7 @@ fn frame_times_on_lavapipe() {
         size,
         times: FrameTimes::with_capacity(ROUNDS * FRAMES as usize),
         draws: 0,
+        round_p50: Vec::with_capacity(ROUNDS),
     });
     for round in 0..ROUNDS {
         // Alternate the order (ABC, CBA, ...) so a drift within a round cancels out.
@@ -88,6 +92,8 @@ fn frame_times_on_lavapipe() {
                 gpu::render_with(&options(s), path(), FRAMES, 256, 256, &mut NoHooks);
             s.times.merge(&r.times);
             s.draws = s.draws.max(r.max_draws);
+            s.round_p50
+                .push(r.times.percentiles(Timing::FrameTotal).p50);
         }
     }
 
@@ -134,11 +140,24 @@ fn frame_times_on_lavapipe() {
         tp.draws,
         "multiview must record half the draws"
     );
-    let r = p50(mv) / p50(tp);
-    println!("multiview / two-pass frame time: {r:.3}");
+    // Ratios are paired within each round (scenarios run back to back there), and the median
+    // over rounds is the verdict: a burst of host load spoils one round, not the result.
+    let ratio = |a: &Scenario, b: &Scenario| {
+        let mut v: Vec<f64> = a
+            .round_p50
+            .iter()
+            .zip(&b.round_p50)
+            .map(|(x, y)| x / y)
+            .collect();
+        v.sort_by(f64::total_cmp);
+        println!("  per round: {v:.3?}");
+        (v[(v.len() - 1) / 2] + v[v.len() / 2]) / 2.0
+    };
+    let r = ratio(mv, tp);
+    println!("multiview / two-pass frame time (median of per-round ratios): {r:.3}");
     assert!(r <= 1.05, "multiview frame time {r:.3}x two-pass");
-    let r = p50(big) / p50(mv);
-    println!("S=8192 / S=1024 frame time: {r:.3}");
+    let r = ratio(big, mv);
+    println!("S=8192 / S=1024 frame time (median of per-round ratios): {r:.3}");
     assert!(r <= 1.25, "frame time at 8192 m is {r:.3}x that at 1024 m");
     for s in &scenarios {
         let step = s.times.percentiles(Timing::SimStep).p95;
