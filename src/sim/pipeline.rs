@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 use crate::sim::error::ParamError;
 use crate::sim::evolve::{self, LoopPhase};
 use crate::sim::fft::Fft2d;
-use crate::sim::grid::{AlignedBuf, SplitField};
+use crate::sim::grid::{AlignedBuf, GridSize, SplitField};
 use crate::sim::params::{OceanConfig, WaveParams};
 use crate::sim::query;
 use crate::sim::spectrum::{cascade_bands, CascadeSpec, PackedSpectrum};
@@ -92,17 +92,28 @@ struct CascadeSim {
     foam: AlignedBuf,
 }
 
+/// FFT scratch fields: two up to N = 256, so the four transforms go in two groups of two and a
+/// step has four fork-joins in its FFT instead of eight (fields and scratch, 3 MB, still fit
+/// the shared cache); one from N = 512, where a second field's working set evicts the first's.
+fn scratch_fields(grid: GridSize) -> usize {
+    if grid.n() <= 256 {
+        2
+    } else {
+        1
+    }
+}
+
 /// The synchronous pipeline: owns every buffer, so [`SimCore::step`] allocates nothing.
 /// Runs its stages on the current Rayon pool.
 pub struct SimCore {
     config: OceanConfig,
     fft: Fft2d,
     cascades: Vec<CascadeSim>,
-    /// FFT scratch shared by all cascades: one field, so the four transforms of a step run one
-    /// after another through a cache-resident scratch, their strips split among the threads.
-    /// (One scratch per thread made 2 threads only 1.47× faster than 1 at N = 512; one shared
+    /// FFT scratch shared by all cascades ([`scratch_fields`]): the transforms of a step run in
+    /// groups through cache-resident scratch, their strips split among the threads. (One
+    /// scratch per thread made 2 threads only 1.47× faster than 1 at N = 512; one shared
     /// scratch, 1.79×.)
-    scratch: [SplitField; 1],
+    scratch: Vec<SplitField>,
     last_time: Option<f64>,
     timings: StageTimes,
 }
@@ -144,7 +155,9 @@ impl SimCore {
             fft: Fft2d::new(grid),
             config,
             cascades,
-            scratch: [SplitField::zeros(grid)],
+            scratch: (0..scratch_fields(grid))
+                .map(|_| SplitField::zeros(grid))
+                .collect(),
             last_time: None,
             timings: StageTimes::default(),
         })
