@@ -44,7 +44,7 @@ pub fn apply_wave_tweak(sim: &mut Simulation, tweak: Tweak) {
 /// Samples kept for the title statistics.
 const RECENT: usize = 64;
 
-/// The last [`RECENT`] frames' timings (ms) and draw counts, for a live summary.
+/// The last `RECENT` frames' timings (ms) and draw counts, for a live summary.
 #[derive(Clone, Debug)]
 pub struct RecentFrames {
     frame: [f64; RECENT],

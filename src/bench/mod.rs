@@ -106,7 +106,7 @@ fn pool(threads: usize) -> Result<rayon::ThreadPool, SimError> {
 }
 
 /// Runs every size: all thread counts and baselines of one size are interleaved (see
-/// [`interleaved`]). Baselines are single-threaded and reported in the 1-thread row.
+/// `interleaved`). Baselines are single-threaded and reported in the 1-thread row.
 pub fn run(opts: &BenchOptions) -> Result<Vec<BenchRow>, SimError> {
     let mut rows = Vec::new();
     for &grid in &opts.sizes {

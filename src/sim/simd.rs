@@ -1,6 +1,6 @@
 //! Runtime ISA dispatch for the element-wise stages (evolution, surface, mips).
 //!
-//! Their loops are plain Rust that the compiler vectorizes; [`dispatch!`] compiles a kernel again
+//! Their loops are plain Rust that the compiler vectorizes; `dispatch!` compiles a kernel again
 //! for AVX-512 (16 lanes, 32 registers: no spills in the evolution loop) and for AVX2 (8 lanes)
 //! on x86-64 CPUs that have them, besides the baseline (SSE2's 4 lanes; NEON on aarch64). Rust
 //! never contracts a·b + c into an FMA and the kernels use only correctly rounded operations, so

@@ -6,7 +6,7 @@
 /// x86-64 (no SSE4.1), this vectorizes everywhere and gives the same bits on every platform.
 const ROUND_MAGIC: f32 = 12_582_912.0;
 
-/// Nearest integer of `x` for |x| < 2²² (see [`ROUND_MAGIC`]).
+/// Nearest integer of `x` for |x| < 2²² (see `ROUND_MAGIC`).
 #[inline(always)]
 pub fn round_small(x: f32) -> f32 {
     (x + ROUND_MAGIC) - ROUND_MAGIC

@@ -4,7 +4,7 @@
 //!
 //! The app owns the loop, so winit is pumped (`pump_app_events`, no waiting) at the start of
 //! every frame. The app renders into the mock's own [`MockSwapchain`]; [`FrameLoop::end_frame`]
-//! blits it into the window's swapchain (see [`super::present`]).
+//! blits it into the window's swapchain (see `present`).
 //!
 //! Keys ([`KEYS_HELP`]): WASD move, Q/E down/up, Shift 5× faster, mouse look while a button is
 //! held; 1/2 wind speed −/+1 m/s, 3/4 wind direction −/+15°, 5/6 choppiness −/+0.1, F1-F4
