@@ -2,16 +2,15 @@
 //! most of the ocean behind a standing user looking at the horizon, and keeps the draw count at
 //! ≤ 16 + the skirt. Also the per-preset triangle counts (printed; recorded in BENCHMARKS.md).
 
+mod common;
+
+use common::lod::{culled_frame, quest_eyes, Lcg};
+
 use glam::Vec3;
 
 use vr_ocean::lod::{
-    EyeView, Fov, FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset,
-    StereoFrustum,
+    EyeView, FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset,
 };
-
-fn quest_eyes(pos: Vec3, yaw: f32, pitch: f32) -> StereoFrustum {
-    StereoFrustum::from_head(pos, yaw, pitch, 0.064, Fov::QUEST_EYES).unwrap()
-}
 
 /// Independent visibility oracle: a point is seen by an eye when, in that eye's view space
 /// (inverse pose), it is in front of the near plane and its tangents x/−z, y/−z lie within the
@@ -44,13 +43,8 @@ fn brute_force_sees(eye: &EyeView, c: Vec3, e: Vec3) -> bool {
 #[test]
 fn culling_never_drops_a_visible_patch() {
     let pad = MaxDisplacement::new([1.2, 2.5, 0.8]).unwrap();
-    let mut state = 7u64;
-    let mut rnd = move || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 40) as f32 / (1u64 << 24) as f32
-    };
+    let mut rng = Lcg(7);
+    let mut rnd = move || rng.next();
     let mut kept_total = 0;
     for preset in QualityPreset::ALL {
         for size in [256.0, 2048.0, 8192.0] {
@@ -61,12 +55,7 @@ fn culling_never_drops_a_visible_patch() {
                 let pos = Vec3::new((rnd() - 0.5) * 500.0, h, (rnd() - 0.5) * 500.0);
                 let pitch = (rnd() - 0.6) * 2.5;
                 let eyes = quest_eyes(pos, rnd() * std::f32::consts::TAU, pitch);
-                lod.update(&FrameInput {
-                    viewer: eyes.centre(),
-                    culling: Some(&eyes),
-                    max_displacement: pad,
-                })
-                .unwrap();
+                culled_frame(&mut lod, &eyes, pad);
                 assert!(lod.draws().len() <= 16);
                 for (leaf, &kept) in lod.leaves().iter().zip(lod.visible()) {
                     let inst = lod.instance_of(leaf);
@@ -100,13 +89,7 @@ fn a_standing_user_looking_at_the_horizon_culls_at_least_40_percent() {
             for k in 0..16 {
                 let yaw = k as f32 * std::f32::consts::TAU / 16.0;
                 let eyes = quest_eyes(Vec3::new(3.0, 1.7, -2.0), yaw, 0.0);
-                let s = lod
-                    .update(&FrameInput {
-                        viewer: eyes.centre(),
-                        culling: Some(&eyes),
-                        max_displacement: pad,
-                    })
-                    .unwrap();
+                let s = culled_frame(&mut lod, &eyes, pad);
                 let culled = 1.0 - s.visible as f32 / s.patches as f32;
                 worst = worst.min(culled);
             }
@@ -142,13 +125,7 @@ fn triangle_and_draw_counts_per_preset() {
                 max_displacement: pad,
             })
             .unwrap();
-        let s = lod
-            .update(&FrameInput {
-                viewer: eyes.centre(),
-                culling: Some(&eyes),
-                max_displacement: pad,
-            })
-            .unwrap();
+        let s = culled_frame(&mut lod, &eyes, pad);
         println!(
             "{:<7} {:>3} {:>8} {:>7} {:>5} {:>18} {:>15}",
             preset.name(),

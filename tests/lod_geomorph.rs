@@ -11,6 +11,10 @@
 //! that height between two consecutive steps that the morph's own continuous motion cannot
 //! explain.
 
+mod common;
+
+use common::lod::Lcg;
+
 use glam::{Vec2, Vec3};
 
 use vr_ocean::lod::morph::patch_vertex_xz;
@@ -133,19 +137,6 @@ fn max_vertex_speed(lod: &OceanLod) -> f64 {
             (std::f64::consts::SQRT_2 * h / band).max(2.0 * h / coarse)
         })
         .fold(0.0, f64::max)
-}
-
-/// A small deterministic generator.
-struct Lcg(u64);
-
-impl Lcg {
-    fn next(&mut self) -> f32 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 40) as f32 / (1u64 << 24) as f32
-    }
 }
 
 #[derive(Default)]

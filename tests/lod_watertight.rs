@@ -6,12 +6,15 @@
 //! outer rim is open. Also, with culling, every patch edge left open borders a culled patch, and
 //! the geomorph moves every shared vertex identically in all patches that use it.
 
+mod common;
+
+use common::lod::{culled_frame, quest_eyes, Lcg};
+
 use glam::{Vec2, Vec3};
 
 use vr_ocean::lod::morph::{patch_vertex_xz, skirt_vertex_xz};
 use vr_ocean::lod::{
-    Fov, FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset,
-    StereoFrustum, StitchFlags,
+    FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset, StitchFlags,
 };
 
 /// Integer lattice key of a world xz position, in units of the finest vertex spacing.
@@ -137,23 +140,6 @@ fn assert_morph_consistent(s: &mut Surface, what: &str) {
     }
 }
 
-/// A small deterministic generator.
-struct Lcg(u64);
-
-impl Lcg {
-    fn next(&mut self) -> f32 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 40) as f32 / (1u64 << 24) as f32
-    }
-}
-
-fn quest_eyes(pos: Vec3, yaw: f32, pitch: f32) -> StereoFrustum {
-    StereoFrustum::from_head(pos, yaw, pitch, 0.064, Fov::QUEST_EYES).unwrap()
-}
-
 fn run(preset: QualityPreset, size: f32, cameras: usize, seed: u64) -> usize {
     let st = LodSettings::new(preset, OceanSize::new(size).unwrap());
     let mut lod = OceanLod::new(st);
@@ -195,12 +181,7 @@ fn run(preset: QualityPreset, size: f32, cameras: usize, seed: u64) -> usize {
             (rng.next() - 0.7) * 2.0
         };
         let eyes = quest_eyes(camera, yaw, pitch);
-        lod.update(&FrameInput {
-            viewer: eyes.centre(),
-            culling: Some(&eyes),
-            max_displacement: pad,
-        })
-        .unwrap();
+        culled_frame(&mut lod, &eyes, pad);
         assert!(lod.draws().len() <= 16);
         let seen = gather(&lod, camera, false);
         for w in seen.edges.windows(2) {

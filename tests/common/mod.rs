@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod gpu;
+pub mod lod;
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::PathBuf;
