@@ -1,6 +1,6 @@
 //! The `vr-ocean` command line: the ocean window (the default, falling back to headless without a
-//! display), headless rendering, simulate, export, bench and lod-svg (the VR mode arrives with
-//! the OpenXR backend).
+//! display), headless rendering, the headset through OpenXR (`xr`), simulate, export, bench and
+//! lod-svg.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -19,6 +19,8 @@ use vr_ocean::sim::{
 };
 use vr_ocean::xr::mock::window::{OpenError, WindowOptions, WindowSize, WindowXr, KEYS_HELP};
 use vr_ocean::xr::mock::{self, CameraPath, EyeSize, HeadlessXr};
+use vr_ocean::xr::openxr::quest::{Foveation, PerfLevel};
+use vr_ocean::xr::openxr::{OpenXr, OpenXrOptions};
 use vr_ocean::xr::FrameLoop;
 
 #[derive(Parser)]
@@ -45,6 +47,9 @@ enum Command {
     Window(WindowArgs),
     /// Render without a window along a camera path: both eyes as PNG and frame_times.json.
     Headless(HeadlessArgs),
+    /// Run in a headset through the active OpenXR runtime (Monado, SteamVR, WiVRn): left stick
+    /// glides, right stick snap-turns, A (or menu) cycles the preset, triggers change the wind.
+    Xr(XrArgs),
     /// Draw one frame of the quadtree LOD (patches by level, stitched edges, both eye frusta) as SVG.
     LodSvg(LodSvgArgs),
 }
@@ -335,6 +340,51 @@ struct WindowArgs {
     screenshot: Option<PathBuf>,
 }
 
+#[derive(Args)]
+struct XrArgs {
+    #[command(flatten)]
+    view: ViewArgs,
+    /// End the session after this many submitted frames (tests, CI); default: until the
+    /// runtime ends it or Ctrl-C.
+    #[arg(long)]
+    frames: Option<u64>,
+    /// Factor on the runtime's recommended per-eye size, 0.1 to 4.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1.0)]
+    resolution_scale: f32,
+    /// Fixed foveation level (with XR_FB_foveation).
+    #[arg(long, value_enum, default_value_t = FoveationArg::Medium)]
+    foveation: FoveationArg,
+    /// Highest display refresh rate to ask for (Hz, with XR_FB_display_refresh_rate); lower
+    /// rates are taken when frames do not fit the budget.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 120.0)]
+    max_refresh_rate: f32,
+    /// CPU performance level (with XR_EXT_performance_settings).
+    #[arg(long, value_enum, default_value_t = PerfArg::SustainedHigh)]
+    cpu_level: PerfArg,
+    /// GPU performance level (with XR_EXT_performance_settings).
+    #[arg(long, value_enum, default_value_t = PerfArg::SustainedHigh)]
+    gpu_level: PerfArg,
+    /// Height of the floor you stand on above the mean sea level (m).
+    #[arg(long, allow_negative_numbers = true, default_value_t = 2.9)]
+    deck_height: f32,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum FoveationArg {
+    Off,
+    Low,
+    Medium,
+    High,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum PerfArg {
+    PowerSavings,
+    SustainedLow,
+    SustainedHigh,
+    Boost,
+}
+
 /// Where the default run writes when there is no display.
 const FALLBACK_DIR: &str = "vr-ocean-headless";
 
@@ -372,6 +422,7 @@ fn main() -> ExitCode {
         Some(Command::Bench(a)) => bench_cmd(a),
         Some(Command::LodSvg(a)) => lod_svg_cmd(a),
         Some(Command::Headless(a)) => headless_cmd(a),
+        Some(Command::Xr(a)) => xr_cmd(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -522,6 +573,82 @@ fn window_cmd(a: WindowArgs, fallback: bool) -> CmdResult {
         return Err(format!("{errors} Vulkan validation errors").into());
     }
     Ok(())
+}
+
+fn xr_cmd(a: XrArgs) -> CmdResult {
+    if a.frames == Some(0) {
+        return Err(ParamError::new("frames", 0.0, "at least 1 frame").into());
+    }
+    let opts = a.view.run_options(Vec::new(), 10)?;
+    let perf = |p: PerfArg| match p {
+        PerfArg::PowerSavings => PerfLevel::PowerSavings,
+        PerfArg::SustainedLow => PerfLevel::SustainedLow,
+        PerfArg::SustainedHigh => PerfLevel::SustainedHigh,
+        PerfArg::Boost => PerfLevel::Boost,
+    };
+    let mut xr = OpenXr::new(OpenXrOptions {
+        frames: a.frames,
+        resolution_scale: a.resolution_scale,
+        validation: a.view.context().validation,
+        foveation: match a.foveation {
+            FoveationArg::Off => Foveation::Off,
+            FoveationArg::Low => Foveation::Low,
+            FoveationArg::Medium => Foveation::Medium,
+            FoveationArg::High => Foveation::High,
+        },
+        max_refresh_rate: a.max_refresh_rate,
+        perf_levels: (perf(a.cpu_level), perf(a.gpu_level)),
+        deck_height: a.deck_height,
+        preset: preset(a.view.preset),
+    })?;
+    exit_signal::install();
+    let extent = xr.targets().extent;
+    println!(
+        "OpenXR session: {}x{} per eye ({}) on {}",
+        extent.width,
+        extent.height,
+        opts.renderer.stereo.name(),
+        xr.gpu().device_name
+    );
+    // Counts validation errors over the whole session, shutdown included.
+    let validation = xr.gpu().validation.clone();
+    let result = app::run(&mut xr, &opts, &mut app::NoHooks);
+    let summary = xr.summary();
+    drop(xr);
+    println!("openxr summary: {}", summary.line());
+    let report = result?;
+    println!("{} frames rendered", report.frames);
+    print_times(&report.times);
+    let errors = validation.map_or(0, |v| v.errors());
+    if errors > 0 {
+        return Err(format!("{errors} Vulkan validation errors").into());
+    }
+    Ok(())
+}
+
+/// Ctrl-C (SIGINT) and SIGTERM ask the runtime to end the session instead of killing the
+/// process mid-frame.
+mod exit_signal {
+    #[cfg(unix)]
+    pub fn install() {
+        use std::ffi::c_int;
+        extern "C" fn on_signal(_: c_int) {
+            vr_ocean::xr::openxr::EXIT_SIGNAL.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
+        extern "C" {
+            fn signal(signum: c_int, handler: extern "C" fn(c_int)) -> usize;
+        }
+        const SIGINT: c_int = 2;
+        const SIGTERM: c_int = 15;
+        // SAFETY: the handler only stores to an atomic, which is async-signal-safe.
+        unsafe {
+            signal(SIGINT, on_signal);
+            signal(SIGTERM, on_signal);
+        }
+    }
+
+    #[cfg(not(unix))]
+    pub fn install() {}
 }
 
 /// The default run without a display: 144 headless frames into [`FALLBACK_DIR`].

@@ -13,7 +13,7 @@ use vr_ocean::app;
 use vr_ocean::lod::QualityPreset;
 use vr_ocean::render::{GpuContext, StereoMode, TargetImages};
 use vr_ocean::xr::mock::{EyeSize, HeadlessXr};
-use vr_ocean::xr::{FrameLoop, FrameState, Tweak, XrError, MAX_TWEAKS};
+use vr_ocean::xr::{Acquired, FrameLoop, FrameState, Tweak, XrError, MAX_TWEAKS};
 
 #[test]
 fn bad_window_sizes_are_clear_errors() {
@@ -185,7 +185,7 @@ impl FrameLoop for Tweaking {
         }
         Ok(state)
     }
-    fn acquire_image(&mut self) -> Result<u32, XrError> {
+    fn acquire_image(&mut self) -> Result<Acquired, XrError> {
         self.inner.acquire_image()
     }
     fn release_image(&mut self) -> Result<(), XrError> {

@@ -215,22 +215,25 @@ fn frames(
         })?;
         let lod_time = t_lod.elapsed();
 
-        let image = xr.acquire_image()?;
-        let report = if frame.should_render {
-            Some(renderer.render(
+        // A frame the runtime does not want shown is not drawn, nor are its images taken.
+        let mut report = None;
+        let mut drawn = None;
+        if frame.should_render {
+            let image = xr.acquire_image()?;
+            report = Some(renderer.render(
                 xr.gpu(),
                 &render::FrameInput {
-                    image,
+                    image: image.colour,
+                    depth: image.depth,
                     eyes: &frame.views,
                     lod,
                     surfaces,
                 },
-            )?)
-        } else {
-            None
-        };
-        xr.release_image()?;
-        if let Some(rb) = readback.as_mut() {
+            )?);
+            xr.release_image()?;
+            drawn = Some(image.colour);
+        }
+        if let (Some(rb), Some(image)) = (readback.as_mut(), drawn) {
             if opts.capture.contains(&frame.index) {
                 let extent = xr.targets().extent;
                 let image_handle = xr.targets().images[image as usize];

@@ -32,6 +32,8 @@ pub struct ContextOptions {
     pub instance_extensions: Vec<*const c_char>,
     /// Whether the device must be able to present (enables `VK_KHR_swapchain`).
     pub present: bool,
+    /// The Vulkan API version asked for (at least 1.1; an OpenXR runtime may need more).
+    pub api_version: u32,
 }
 
 impl Default for ContextOptions {
@@ -40,7 +42,75 @@ impl Default for ContextOptions {
             validation: Validation::IfAvailable,
             instance_extensions: Vec::new(),
             present: false,
+            api_version: vk::API_VERSION_1_1,
         }
+    }
+}
+
+/// Who creates the Vulkan instance and device from our create infos: the app itself
+/// ([`DirectVulkan`]), or an OpenXR runtime (`XR_KHR_vulkan_enable2` creates both, adding what its
+/// compositor needs, and chooses the physical device).
+pub trait VulkanFactory {
+    /// Creates the instance described by `info`.
+    fn create_instance(
+        &self,
+        entry: &ash::Entry,
+        info: &vk::InstanceCreateInfo<'_>,
+    ) -> Result<vk::Instance, RenderError>;
+
+    /// The physical device to use, or `None` to let the context pick the best one.
+    fn physical_device(
+        &self,
+        instance: &ash::Instance,
+    ) -> Result<Option<vk::PhysicalDevice>, RenderError>;
+
+    /// Creates the device described by `info` on `physical`.
+    fn create_device(
+        &self,
+        instance: &ash::Instance,
+        physical: vk::PhysicalDevice,
+        info: &vk::DeviceCreateInfo<'_>,
+    ) -> Result<vk::Device, RenderError>;
+}
+
+/// Plain Vulkan: the app creates its own instance and device.
+pub struct DirectVulkan;
+
+impl VulkanFactory for DirectVulkan {
+    fn create_instance(
+        &self,
+        entry: &ash::Entry,
+        info: &vk::InstanceCreateInfo<'_>,
+    ) -> Result<vk::Instance, RenderError> {
+        // SAFETY: every pointer in `info` outlives the call (the caller's contract).
+        unsafe { entry.create_instance(info, None) }
+            .map(|i| i.handle())
+            .map_err(|e| match e {
+                vk::Result::ERROR_INCOMPATIBLE_DRIVER => RenderError::NoDevice(e.to_string()),
+                e => RenderError::Vk {
+                    call: "vkCreateInstance",
+                    result: e,
+                },
+            })
+    }
+
+    fn physical_device(
+        &self,
+        _instance: &ash::Instance,
+    ) -> Result<Option<vk::PhysicalDevice>, RenderError> {
+        Ok(None)
+    }
+
+    fn create_device(
+        &self,
+        instance: &ash::Instance,
+        physical: vk::PhysicalDevice,
+        info: &vk::DeviceCreateInfo<'_>,
+    ) -> Result<vk::Device, RenderError> {
+        // SAFETY: `physical` came from `instance`; `info`'s pointers outlive the call.
+        unsafe { instance.create_device(physical, info, None) }
+            .map(|d| d.handle())
+            .map_err(RenderError::vk("vkCreateDevice"))
     }
 }
 
@@ -103,6 +173,22 @@ impl GpuContext {
     /// Loads Vulkan, creates an instance (1.1) and a device with one graphics queue, preferring
     /// a discrete GPU, then an integrated one, then anything (lavapipe).
     pub fn new(opts: &ContextOptions) -> Result<Self, RenderError> {
+        Self::with_factory(opts, &DirectVulkan)
+    }
+
+    /// Like [`GpuContext::new`], with the instance and device created (and the physical device
+    /// possibly chosen) by `factory`.
+    pub fn with_factory(
+        opts: &ContextOptions,
+        factory: &dyn VulkanFactory,
+    ) -> Result<Self, RenderError> {
+        if opts.api_version < vk::API_VERSION_1_1 {
+            return Err(RenderError::Invalid(format!(
+                "Vulkan API version {}.{}: the renderer needs 1.1 or later",
+                vk::api_version_major(opts.api_version),
+                vk::api_version_minor(opts.api_version)
+            )));
+        }
         // SAFETY: loading the system loader runs its initialisers; nothing else is loaded.
         let entry =
             unsafe { ash::Entry::load() }.map_err(|e| RenderError::NoLoader(e.to_string()))?;
@@ -131,7 +217,7 @@ impl GpuContext {
             .application_name(c"vr-ocean")
             .application_version(1)
             .engine_name(c"vr-ocean")
-            .api_version(vk::API_VERSION_1_1);
+            .api_version(opts.api_version);
         let layers = [VALIDATION_LAYER.as_ptr()];
         let mut extensions = opts.instance_extensions.clone();
         if validate {
@@ -161,14 +247,9 @@ impl GpuContext {
         if let Some(m) = messenger_info.as_mut() {
             info = info.push_next(m);
         }
-        // SAFETY: every pointer in `info` outlives the call.
-        let instance = unsafe { entry.create_instance(&info, None) }.map_err(|e| match e {
-            vk::Result::ERROR_INCOMPATIBLE_DRIVER => RenderError::NoDevice(e.to_string()),
-            e => RenderError::Vk {
-                call: "vkCreateInstance",
-                result: e,
-            },
-        })?;
+        let raw = factory.create_instance(&entry, &info)?;
+        // SAFETY: `raw` was just created from this entry's loader.
+        let instance = unsafe { ash::Instance::load(entry.static_fn(), raw) };
         let debug = match messenger_info {
             Some(m) => {
                 let du = ash::ext::debug_utils::Instance::new(&entry, &instance);
@@ -183,7 +264,10 @@ impl GpuContext {
             instance,
             debug,
         };
-        let (physical, queue_family) = ctx.pick_device(opts.present)?;
+        let (physical, queue_family) = match factory.physical_device(&ctx.instance)? {
+            Some(p) => (p, graphics_family(&ctx.instance, p)?),
+            None => ctx.pick_device()?,
+        };
         let instance = &ctx.instance;
         // SAFETY: `physical` came from this instance.
         let props = unsafe { instance.get_physical_device_properties(physical) };
@@ -222,8 +306,9 @@ impl GpuContext {
             .queue_create_infos(&queues)
             .enabled_extension_names(&dev_ext)
             .push_next(&mut enable_mv);
-        let device = unsafe { instance.create_device(physical, &dinfo, None) }
-            .map_err(RenderError::vk("vkCreateDevice"))?;
+        let raw = factory.create_device(instance, physical, &dinfo)?;
+        // SAFETY: `raw` was just created on `physical` of this instance.
+        let device = unsafe { ash::Device::load(instance.fp_v1_0(), raw) };
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
         let memory = unsafe { instance.get_physical_device_memory_properties(physical) };
         let (entry, instance, debug) = ctx.take();
@@ -285,6 +370,20 @@ impl Drop for GpuContext {
     }
 }
 
+/// The first queue family of `physical` with graphics.
+fn graphics_family(
+    instance: &ash::Instance,
+    physical: vk::PhysicalDevice,
+) -> Result<u32, RenderError> {
+    // SAFETY: `physical` came from `instance`.
+    let families = unsafe { instance.get_physical_device_queue_family_properties(physical) };
+    families
+        .iter()
+        .position(|f| f.queue_flags.contains(vk::QueueFlags::GRAPHICS))
+        .map(|q| q as u32)
+        .ok_or_else(|| RenderError::NoDevice("the chosen device has no graphics queue".into()))
+}
+
 /// An instance not yet wrapped in a [`GpuContext`]: destroyed if device set-up fails.
 struct PartialContext {
     entry: ash::Entry,
@@ -293,8 +392,7 @@ struct PartialContext {
 }
 
 impl PartialContext {
-    fn pick_device(&mut self, present: bool) -> Result<(vk::PhysicalDevice, u32), RenderError> {
-        let _ = present;
+    fn pick_device(&mut self) -> Result<(vk::PhysicalDevice, u32), RenderError> {
         let devices = unsafe { self.instance.enumerate_physical_devices() }
             .map_err(|e| RenderError::NoDevice(e.to_string()))?;
         if devices.is_empty() {

@@ -22,10 +22,12 @@ pub mod pipeline;
 pub mod readback;
 pub mod shaders;
 
-pub use context::{ContextOptions, GpuContext, Validation, ValidationLog};
+pub use context::{
+    ContextOptions, DirectVulkan, GpuContext, Validation, ValidationLog, VulkanFactory,
+};
 pub use error::RenderError;
 pub use ocean::{FrameInput, FrameReport, OceanRenderer, RendererSettings, TargetImages};
-pub use pipeline::StereoMode;
+pub use pipeline::{StereoMode, DEPTH_FORMAT};
 
 use ash::vk;
 

@@ -67,6 +67,9 @@ pub struct TargetImages<'a> {
     pub format: vk::Format,
     /// Their size per eye.
     pub extent: vk::Extent2D,
+    /// 2-layer depth images (`DEPTH_FORMAT`) whose contents are kept for the compositor (an
+    /// OpenXR depth swapchain); empty: the renderer uses a transient depth image of its own.
+    pub depth: &'a [vk::Image],
 }
 
 /// One frame's inputs.
@@ -74,6 +77,8 @@ pub struct TargetImages<'a> {
 pub struct FrameInput<'a> {
     /// Which target image to draw into.
     pub image: u32,
+    /// Which of [`TargetImages::depth`] to use (0 without them).
+    pub depth: u32,
     /// Both eyes.
     pub eyes: &'a [EyeView; 2],
     /// The LOD, already updated for this frame.
@@ -97,8 +102,16 @@ pub struct FrameReport {
     pub draws: u32,
 }
 
-struct Target {
-    depth: Image,
+/// Timestamp queries per frame: the pass's start and end, and one spare. Mesa 25's lavapipe
+/// writes a timestamp recorded after a multiview pass once per view (into queries 1 and 2),
+/// and crashed writing past the end of a 2-query pool.
+const TIMESTAMP_QUERIES: u32 = 3;
+
+struct Targets {
+    own_depth: Option<Image>,
+    colours: usize,
+    depths: usize,
+    passes: usize,
     views: Vec<vk::ImageView>,
     framebuffers: Vec<vk::Framebuffer>,
 }
@@ -131,7 +144,7 @@ struct MeshLayout {
 pub struct OceanRenderer {
     settings: RendererSettings,
     pipelines: Pipelines,
-    targets: Vec<Target>,
+    targets: Targets,
     extent: vk::Extent2D,
     displacement: Image,
     normals: Image,
@@ -180,7 +193,12 @@ impl OceanRenderer {
                 targets.extent.width, targets.extent.height
             )));
         }
-        let pipelines = Pipelines::new(ctx, settings.stereo, targets.format)?;
+        let pipelines = Pipelines::new(
+            ctx,
+            settings.stereo,
+            targets.format,
+            !targets.depth.is_empty(),
+        )?;
         let n = config.grid.n() as u32;
         let cascades = config.patch_sizes.len();
         let mips = config.grid.mip_levels();
@@ -218,10 +236,7 @@ impl OceanRenderer {
         let disp_sampler = sampler(ctx, 0.0)?;
         let normal_sampler = sampler(ctx, mips as f32)?;
 
-        let mut out_targets = Vec::with_capacity(targets.images.len());
-        for &image in targets.images {
-            out_targets.push(Target::new(ctx, &pipelines, image, targets)?);
-        }
+        let out_targets = Targets::new(ctx, &pipelines, targets)?;
 
         let (vertices, indices, mesh) = upload_meshes(ctx, lod)?;
 
@@ -307,11 +322,12 @@ impl OceanRenderer {
         let d = &ctx.device;
         let slot_index = (self.frame % self.slots.len() as u64) as usize;
         self.frame += 1;
-        if input.image as usize >= self.targets.len() {
+        if input.image as usize >= self.targets.colours
+            || input.depth as usize >= self.targets.depths
+        {
             return Err(RenderError::Invalid(format!(
-                "target image {} of {}",
-                input.image,
-                self.targets.len()
+                "target image {} of {} (depth {} of {})",
+                input.image, self.targets.colours, input.depth, self.targets.depths
             )));
         }
         let t0 = Instant::now();
@@ -405,7 +421,7 @@ impl OceanRenderer {
         let timed = ctx.timestamp_period.is_some();
         unsafe {
             if timed {
-                d.cmd_reset_query_pool(cmd, slot.queries, 0, 2);
+                d.cmd_reset_query_pool(cmd, slot.queries, 0, TIMESTAMP_QUERIES);
                 d.cmd_write_timestamp(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, slot.queries, 0);
             }
         }
@@ -415,7 +431,7 @@ impl OceanRenderer {
         };
         let mut draws = 0;
         for &eye in passes {
-            draws += self.record_pass(ctx, slot_index, input.image, eye, lod, skirt_instance);
+            draws += self.record_pass(ctx, slot_index, input, eye, skirt_instance);
         }
         unsafe {
             if timed {
@@ -530,15 +546,14 @@ impl OceanRenderer {
         &self,
         ctx: &GpuContext,
         slot_index: usize,
-        image: u32,
+        input: &FrameInput<'_>,
         eye: u32,
-        lod: &OceanLod,
         skirt_instance: u32,
     ) -> u32 {
+        let (image, depth, lod) = (input.image, input.depth, input.lod);
         let d = &ctx.device;
         let slot = &self.slots[slot_index];
         let cmd = slot.cmd;
-        let target = &self.targets[image as usize];
         let clear = [
             vk::ClearValue {
                 color: vk::ClearColorValue {
@@ -558,7 +573,7 @@ impl OceanRenderer {
         };
         let begin = vk::RenderPassBeginInfo::default()
             .render_pass(self.pipelines.render_pass)
-            .framebuffer(target.framebuffers[eye as usize])
+            .framebuffer(self.targets.framebuffer(image, depth, eye))
             .render_area(area)
             .clear_values(&clear);
         let p = &self.pipelines;
@@ -680,17 +695,7 @@ impl OceanRenderer {
                 d.destroy_query_pool(s.queries, None);
             }
         }
-        for mut t in self.targets.drain(..) {
-            unsafe {
-                for f in t.framebuffers.drain(..) {
-                    d.destroy_framebuffer(f, None);
-                }
-                for v in t.views.drain(..) {
-                    d.destroy_image_view(v, None);
-                }
-            }
-            t.depth.destroy(ctx);
-        }
+        self.targets.destroy(ctx);
         unsafe {
             d.destroy_descriptor_pool(self.descriptor_pool, None);
             d.destroy_sampler(self.disp_sampler, None);
@@ -783,59 +788,122 @@ fn cascade_fades(st: &LodSettings, patch_sizes: &[f32]) -> [[f32; 4]; 2] {
     out
 }
 
-impl Target {
-    fn new(
-        ctx: &GpuContext,
-        p: &Pipelines,
-        image: vk::Image,
-        t: TargetImages<'_>,
-    ) -> Result<Self, RenderError> {
-        let depth = Image::new(
-            ctx,
-            ImageDesc {
-                format: DEPTH_FORMAT,
-                extent: t.extent,
-                layers: 2,
-                mips: 1,
-                usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
-                    | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT,
-                aspect: vk::ImageAspectFlags::DEPTH,
-                transient: true,
-            },
-        )?;
-        let colour = vk::ImageAspectFlags::COLOR;
-        let depth_aspect = vk::ImageAspectFlags::DEPTH;
-        let mut views = Vec::new();
-        let mut framebuffers = Vec::new();
+impl Targets {
+    /// Views and framebuffers for every pair of a colour image and a depth image (the given
+    /// depth images, or one transient image of our own shared by all frames: the render pass's
+    /// external dependency orders its reuse).
+    fn new(ctx: &GpuContext, p: &Pipelines, t: TargetImages<'_>) -> Result<Self, RenderError> {
+        let own_depth = if t.depth.is_empty() {
+            Some(Image::new(
+                ctx,
+                ImageDesc {
+                    format: DEPTH_FORMAT,
+                    extent: t.extent,
+                    layers: 2,
+                    mips: 1,
+                    usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+                        | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT,
+                    aspect: vk::ImageAspectFlags::DEPTH,
+                    transient: true,
+                },
+            )?)
+        } else {
+            None
+        };
         let layouts: &[(u32, u32)] = match p.mode {
             StereoMode::Multiview => &[(0, 2)],
             StereoMode::TwoPass => &[(0, 1), (1, 1)],
         };
-        for &(base, count) in layouts {
-            let cv = create_view(ctx, image, t.format, colour, base, count, 1)?;
-            views.push(cv);
-            let dv = create_view(ctx, depth.raw, DEPTH_FORMAT, depth_aspect, base, count, 1)?;
-            views.push(dv);
-            let attachments = [cv, dv];
-            let fb = unsafe {
-                ctx.device.create_framebuffer(
-                    &vk::FramebufferCreateInfo::default()
-                        .render_pass(p.render_pass)
-                        .attachments(&attachments)
-                        .width(t.extent.width)
-                        .height(t.extent.height)
-                        .layers(1),
-                    None,
-                )
-            }
-            .map_err(RenderError::vk("vkCreateFramebuffer"))?;
-            framebuffers.push(fb);
+        let depth_images: Vec<vk::Image> = match &own_depth {
+            Some(d) => vec![d.raw],
+            None => t.depth.to_vec(),
+        };
+        let mut out = Self {
+            own_depth,
+            colours: t.images.len(),
+            depths: depth_images.len(),
+            passes: layouts.len(),
+            views: Vec::new(),
+            framebuffers: Vec::new(),
+        };
+        if let Err(e) = out.create_views(ctx, p, t, layouts, &depth_images) {
+            out.destroy(ctx);
+            return Err(e);
         }
-        Ok(Self {
-            depth,
-            views,
-            framebuffers,
-        })
+        Ok(out)
+    }
+
+    fn create_views(
+        &mut self,
+        ctx: &GpuContext,
+        p: &Pipelines,
+        t: TargetImages<'_>,
+        layouts: &[(u32, u32)],
+        depth_images: &[vk::Image],
+    ) -> Result<(), RenderError> {
+        let out = self;
+        let colour = vk::ImageAspectFlags::COLOR;
+        let depth_aspect = vk::ImageAspectFlags::DEPTH;
+        // Views first: [colour image][pass] then [depth image][pass].
+        for &image in t.images {
+            for &(base, count) in layouts {
+                let v = create_view(ctx, image, t.format, colour, base, count, 1);
+                out.views.push(v?);
+            }
+        }
+        for &image in depth_images {
+            for &(base, count) in layouts {
+                let v = create_view(ctx, image, DEPTH_FORMAT, depth_aspect, base, count, 1);
+                out.views.push(v?);
+            }
+        }
+        let depth_view0 = out.colours * out.passes;
+        for c in 0..out.colours {
+            for d in 0..out.depths {
+                for pass in 0..out.passes {
+                    let attachments = [
+                        out.views[c * out.passes + pass],
+                        out.views[depth_view0 + d * out.passes + pass],
+                    ];
+                    // SAFETY: the views and the render pass are alive and compatible.
+                    let fb = unsafe {
+                        ctx.device.create_framebuffer(
+                            &vk::FramebufferCreateInfo::default()
+                                .render_pass(p.render_pass)
+                                .attachments(&attachments)
+                                .width(t.extent.width)
+                                .height(t.extent.height)
+                                .layers(1),
+                            None,
+                        )
+                    }
+                    .map_err(RenderError::vk("vkCreateFramebuffer"));
+                    out.framebuffers.push(fb?);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The framebuffer of colour image `colour`, depth image `depth` and pass `pass`.
+    fn framebuffer(&self, colour: u32, depth: u32, pass: u32) -> vk::Framebuffer {
+        let i = (colour as usize * self.depths + depth as usize) * self.passes + pass as usize;
+        self.framebuffers[i]
+    }
+
+    fn destroy(&mut self, ctx: &GpuContext) {
+        // SAFETY: the GPU no longer uses them (the owner waited for idle or never submitted).
+        unsafe {
+            for f in self.framebuffers.drain(..) {
+                ctx.device.destroy_framebuffer(f, None);
+            }
+            for v in self.views.drain(..) {
+                ctx.device.destroy_image_view(v, None);
+            }
+        }
+        if let Some(mut d) = self.own_depth.take() {
+            d.destroy(ctx);
+        }
     }
 }
 
@@ -915,7 +983,7 @@ impl Slot {
             d.create_query_pool(
                 &vk::QueryPoolCreateInfo::default()
                     .query_type(vk::QueryType::TIMESTAMP)
-                    .query_count(2),
+                    .query_count(TIMESTAMP_QUERIES),
                 None,
             )
         }

@@ -62,17 +62,19 @@ pub struct Pipelines {
 }
 
 impl Pipelines {
-    /// Builds everything for `mode` and a colour attachment of `colour_format`.
+    /// Builds everything for `mode` and a colour attachment of `colour_format`; depth is kept
+    /// after the pass when `store_depth` (an OpenXR depth swapchain).
     pub fn new(
         ctx: &GpuContext,
         mode: StereoMode,
         colour_format: vk::Format,
+        store_depth: bool,
     ) -> Result<Self, RenderError> {
         if mode == StereoMode::Multiview && !ctx.multiview {
             return Err(RenderError::Unsupported("the multiview feature".into()));
         }
         let d = &ctx.device;
-        let render_pass = render_pass(ctx, mode, colour_format)?;
+        let render_pass = render_pass(ctx, mode, colour_format, store_depth)?;
         let bindings = [
             vk::DescriptorSetLayoutBinding::default()
                 .binding(0)
@@ -142,7 +144,13 @@ fn render_pass(
     ctx: &GpuContext,
     mode: StereoMode,
     colour_format: vk::Format,
+    store_depth: bool,
 ) -> Result<vk::RenderPass, RenderError> {
+    let depth_store = if store_depth {
+        vk::AttachmentStoreOp::STORE
+    } else {
+        vk::AttachmentStoreOp::DONT_CARE
+    };
     let attachments = [
         vk::AttachmentDescription::default()
             .format(colour_format)
@@ -157,7 +165,7 @@ fn render_pass(
             .format(DEPTH_FORMAT)
             .samples(vk::SampleCountFlags::TYPE_1)
             .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .store_op(depth_store)
             .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
             .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
             .initial_layout(vk::ImageLayout::UNDEFINED)

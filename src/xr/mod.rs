@@ -1,12 +1,15 @@
 //! The XR frame loop: one interface ([`FrameLoop`]) and its backends. The desktop mock
 //! ([`mock`]) owns its own 2-layer "swapchain" and makes head poses from the keyboard and mouse
-//! or a scripted camera path; the OpenXR backend (issue 5) will implement the same interface.
+//! or a scripted camera path; the OpenXR backend ([`openxr`]) drives the same frame loop from a
+//! real runtime, with [`locomotion`] placing the tracked user over the water.
 //!
 //! A frame: [`FrameLoop::begin_frame`] (predicted display time and both eye views),
 //! [`FrameLoop::acquire_image`], the renderer records and submits into that image,
 //! [`FrameLoop::release_image`], [`FrameLoop::end_frame`].
 
+pub mod locomotion;
 pub mod mock;
+pub mod openxr;
 
 use crate::lod::{EyeView, QualityPreset};
 use crate::render::{GpuContext, RenderError, TargetImages};
@@ -44,6 +47,16 @@ pub struct FrameState {
     pub tweaks: [Option<Tweak>; MAX_TWEAKS],
 }
 
+/// The images a frame renders into: indices into [`TargetImages::images`] and
+/// [`TargetImages::depth`] (0 when the backend has no depth images).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Acquired {
+    /// The colour image.
+    pub colour: u32,
+    /// The depth image.
+    pub depth: u32,
+}
+
 /// Why the frame loop stopped with an error.
 #[derive(Debug)]
 pub enum XrError {
@@ -78,8 +91,8 @@ pub trait FrameLoop {
     fn targets(&self) -> TargetImages<'_>;
     /// Waits for the next frame; `None` when the session is over (window closed, path done).
     fn begin_frame(&mut self) -> Result<Option<FrameState>, XrError>;
-    /// The target image index to render this frame into.
-    fn acquire_image(&mut self) -> Result<u32, XrError>;
+    /// The target images to render this frame into (called only when the frame should render).
+    fn acquire_image(&mut self) -> Result<Acquired, XrError>;
     /// Hands the image back; its rendering commands have been submitted.
     fn release_image(&mut self) -> Result<(), XrError>;
     /// Shows the frame (presents the window, or nothing headless).

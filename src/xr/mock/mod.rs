@@ -14,7 +14,7 @@ pub mod window;
 use ash::vk;
 use glam::{Quat, Vec3};
 
-use super::{FrameLoop, FrameState, XrError, MAX_TWEAKS};
+use super::{Acquired, FrameLoop, FrameState, XrError, MAX_TWEAKS};
 use crate::lod::{EyeView, Fov};
 use crate::render::memory::{Image, ImageDesc};
 use crate::render::{ContextOptions, GpuContext, RenderError, TargetImages};
@@ -153,6 +153,7 @@ impl MockSwapchain {
             images: &self.raw,
             format: COLOUR_FORMAT,
             extent: self.extent,
+            depth: &[],
         }
     }
 
@@ -249,10 +250,13 @@ impl FrameLoop for HeadlessXr {
         Ok(Some(state))
     }
 
-    fn acquire_image(&mut self) -> Result<u32, XrError> {
+    fn acquire_image(&mut self) -> Result<Acquired, XrError> {
         let i = self.swapchain.acquire();
         self.acquired = Some(i);
-        Ok(i)
+        Ok(Acquired {
+            colour: i,
+            depth: 0,
+        })
     }
 
     fn release_image(&mut self) -> Result<(), XrError> {

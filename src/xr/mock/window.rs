@@ -27,7 +27,7 @@ use super::present::{Presenter, Screenshot};
 use super::{eye_views, CameraPath, EyeSize, MockSwapchain};
 use crate::lod::QualityPreset;
 use crate::render::{ContextOptions, GpuContext, RenderError, TargetImages};
-use crate::xr::{FrameLoop, FrameState, Tweak, XrError, MAX_TWEAKS};
+use crate::xr::{Acquired, FrameLoop, FrameState, Tweak, XrError, MAX_TWEAKS};
 
 /// The controls, as printed at start-up and in the README.
 pub const KEYS_HELP: &str = concat!(
@@ -476,10 +476,13 @@ impl FrameLoop for WindowXr {
         Ok(Some(state))
     }
 
-    fn acquire_image(&mut self) -> Result<u32, XrError> {
+    fn acquire_image(&mut self) -> Result<Acquired, XrError> {
         let i = self.swapchain.acquire();
         self.acquired = Some(i);
-        Ok(i)
+        Ok(Acquired {
+            colour: i,
+            depth: 0,
+        })
     }
 
     fn release_image(&mut self) -> Result<(), XrError> {

@@ -1,0 +1,261 @@
+//! Controller input through OpenXR actions, with suggested bindings for the Oculus Touch
+//! controllers (Quest) and the Khronos simple controller (any runtime):
+//!
+//! | action | Touch | simple controller |
+//! |---|---|---|
+//! | glide over the water | left thumbstick | — |
+//! | snap turn | right thumbstick | — |
+//! | next quality preset (haptic tick) | A | right menu |
+//! | wind +1 m/s (repeats while held) | right trigger | right select |
+//! | wind −1 m/s | left trigger | left select |
+
+use glam::Vec2;
+use openxr as xr;
+
+/// Action paths of one interaction profile.
+struct Profile {
+    path: &'static str,
+    glide: Option<&'static str>,
+    turn: Option<&'static str>,
+    preset: &'static str,
+    wind_up: &'static str,
+    wind_down: &'static str,
+}
+
+const PROFILES: [Profile; 2] = [
+    Profile {
+        path: "/interaction_profiles/oculus/touch_controller",
+        glide: Some("/user/hand/left/input/thumbstick"),
+        turn: Some("/user/hand/right/input/thumbstick"),
+        preset: "/user/hand/right/input/a/click",
+        wind_up: "/user/hand/right/input/trigger/value",
+        wind_down: "/user/hand/left/input/trigger/value",
+    },
+    Profile {
+        path: "/interaction_profiles/khr/simple_controller",
+        glide: None,
+        turn: None,
+        preset: "/user/hand/right/input/menu/click",
+        wind_up: "/user/hand/right/input/select/click",
+        wind_down: "/user/hand/left/input/select/click",
+    },
+];
+
+/// A trigger as a repeating button: fires when pressed past `PRESS`, then every `REPEAT`
+/// seconds while held, and re-arms below `RELEASE`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct TriggerRepeat {
+    held: bool,
+    since: f32,
+}
+
+impl TriggerRepeat {
+    /// Pressed past this value.
+    pub const PRESS: f32 = 0.6;
+    /// Released below this value.
+    pub const RELEASE: f32 = 0.4;
+    /// Seconds between repeats while held.
+    pub const REPEAT: f32 = 0.35;
+
+    /// One frame: trigger `value` in [0, 1], `dt` s since the last frame. True when it fires.
+    pub fn update(&mut self, value: f32, dt: f32) -> bool {
+        if !self.held {
+            if value >= Self::PRESS {
+                self.held = true;
+                self.since = 0.0;
+                return true;
+            }
+            return false;
+        }
+        if value < Self::RELEASE {
+            self.held = false;
+            return false;
+        }
+        self.since += dt.max(0.0);
+        if self.since >= Self::REPEAT {
+            self.since -= Self::REPEAT;
+            return true;
+        }
+        false
+    }
+}
+
+/// One frame of controller input.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct InputFrame {
+    /// Left stick (x right, y forward).
+    pub glide: Vec2,
+    /// Right stick's sideways deflection.
+    pub turn_x: f32,
+    /// The preset button went down this frame.
+    pub next_preset: bool,
+    /// Wind steps this frame (+1 up, −1 down, 0).
+    pub wind_steps: i32,
+}
+
+/// The action set and its actions.
+pub struct Input {
+    set: xr::ActionSet,
+    glide: xr::Action<xr::Vector2f>,
+    turn: xr::Action<xr::Vector2f>,
+    preset: xr::Action<bool>,
+    wind_up: xr::Action<f32>,
+    wind_down: xr::Action<f32>,
+    haptic: xr::Action<xr::Haptic>,
+    right: xr::Path,
+    up: TriggerRepeat,
+    down: TriggerRepeat,
+}
+
+impl Input {
+    /// Creates the actions and suggests the bindings of every profile the runtime accepts
+    /// (a rejected profile is logged, not fatal: the others still work).
+    pub fn new(instance: &xr::Instance) -> Result<Self, String> {
+        let err = |what: &str, e: xr::sys::Result| format!("OpenXR input set-up ({what}): {e}");
+        let set = instance
+            .create_action_set("ocean", "Ocean", 0)
+            .map_err(|e| err("xrCreateActionSet", e))?;
+        let right = instance
+            .string_to_path("/user/hand/right")
+            .map_err(|e| err("path", e))?;
+        let left = instance
+            .string_to_path("/user/hand/left")
+            .map_err(|e| err("path", e))?;
+        let glide = set
+            .create_action::<xr::Vector2f>("glide", "Glide over the water", &[])
+            .map_err(|e| err("glide", e))?;
+        let turn = set
+            .create_action::<xr::Vector2f>("snap_turn", "Snap turn", &[])
+            .map_err(|e| err("snap_turn", e))?;
+        let preset = set
+            .create_action::<bool>("next_preset", "Next quality preset", &[])
+            .map_err(|e| err("next_preset", e))?;
+        let wind_up = set
+            .create_action::<f32>("wind_up", "Raise the wind", &[])
+            .map_err(|e| err("wind_up", e))?;
+        let wind_down = set
+            .create_action::<f32>("wind_down", "Lower the wind", &[])
+            .map_err(|e| err("wind_down", e))?;
+        let haptic = set
+            .create_action::<xr::Haptic>("tick", "Haptic tick", &[left, right])
+            .map_err(|e| err("tick", e))?;
+        for p in &PROFILES {
+            let path = |s: &str| instance.string_to_path(s);
+            let suggest = || -> Result<(), xr::sys::Result> {
+                let profile = path(p.path)?;
+                let mut b = vec![
+                    xr::Binding::new(&preset, path(p.preset)?),
+                    xr::Binding::new(&wind_up, path(p.wind_up)?),
+                    xr::Binding::new(&wind_down, path(p.wind_down)?),
+                    xr::Binding::new(&haptic, path("/user/hand/left/output/haptic")?),
+                    xr::Binding::new(&haptic, path("/user/hand/right/output/haptic")?),
+                ];
+                if let Some(g) = p.glide {
+                    b.push(xr::Binding::new(&glide, path(g)?));
+                }
+                if let Some(t) = p.turn {
+                    b.push(xr::Binding::new(&turn, path(t)?));
+                }
+                instance.suggest_interaction_profile_bindings(profile, &b)
+            };
+            match suggest() {
+                Ok(()) => log::debug!("bindings suggested for {}", p.path),
+                Err(e) => log::warn!("the runtime rejected bindings for {}: {e}", p.path),
+            }
+        }
+        Ok(Self {
+            set,
+            glide,
+            turn,
+            preset,
+            wind_up,
+            wind_down,
+            haptic,
+            right,
+            up: TriggerRepeat::default(),
+            down: TriggerRepeat::default(),
+        })
+    }
+
+    /// Attaches the action set to `session` (once, before the first sync).
+    pub fn attach(&self, session: &xr::Session<xr::Vulkan>) -> Result<(), String> {
+        session
+            .attach_action_sets(&[&self.set])
+            .map_err(|e| format!("xrAttachSessionActionSets: {e}"))
+    }
+
+    /// Syncs the actions and reads this frame's input (`dt` s since the last frame).
+    pub fn read(
+        &mut self,
+        session: &xr::Session<xr::Vulkan>,
+        dt: f32,
+    ) -> Result<InputFrame, xr::sys::Result> {
+        session.sync_actions(&[xr::ActiveActionSet::new(&self.set)])?;
+        let any = xr::Path::NULL;
+        let v2 = |s: xr::ActionState<xr::Vector2f>| {
+            if s.is_active {
+                Vec2::new(s.current_state.x, s.current_state.y)
+            } else {
+                Vec2::ZERO
+            }
+        };
+        let glide = v2(self.glide.state(session, any)?);
+        let turn = v2(self.turn.state(session, any)?);
+        let p = self.preset.state(session, any)?;
+        let up = self.wind_up.state(session, any)?;
+        let down = self.wind_down.state(session, any)?;
+        let up_value = if up.is_active { up.current_state } else { 0.0 };
+        let down_value = if down.is_active {
+            down.current_state
+        } else {
+            0.0
+        };
+        let wind_steps =
+            self.up.update(up_value, dt) as i32 - self.down.update(down_value, dt) as i32;
+        Ok(InputFrame {
+            glide,
+            turn_x: turn.x,
+            next_preset: p.is_active && p.changed_since_last_sync && p.current_state,
+            wind_steps,
+        })
+    }
+
+    /// A short tick on the right controller (preset changed).
+    pub fn tick(&self, session: &xr::Session<xr::Vulkan>) {
+        let vibration = xr::HapticVibration::new()
+            .amplitude(0.6)
+            .frequency(xr::FREQUENCY_UNSPECIFIED)
+            .duration(xr::Duration::from_nanos(30_000_000));
+        if let Err(e) = self.haptic.apply_feedback(session, self.right, &vibration) {
+            log::warn!("haptic feedback: {e}");
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn trigger_fires_on_press_then_repeats_while_held() {
+        let mut t = TriggerRepeat::default();
+        let dt = 1.0 / 72.0;
+        let mut fired = 0;
+        // Half pressed: nothing.
+        for _ in 0..50 {
+            fired += t.update(0.5, dt) as u32;
+        }
+        assert_eq!(fired, 0);
+        // Held fully for 1 s: once at the press, then every 0.35 s → 1 + 2.
+        for _ in 0..72 {
+            fired += t.update(1.0, dt) as u32;
+        }
+        assert_eq!(fired, 3);
+        // Wobbling between the thresholds does not re-fire; a release and press does.
+        fired += t.update(0.45, dt) as u32 + t.update(0.65, dt) as u32;
+        assert_eq!(fired, 3);
+        t.update(0.1, dt);
+        fired += t.update(0.9, dt) as u32;
+        assert_eq!(fired, 4);
+    }
+}
