@@ -2,6 +2,7 @@
 //! it needs).
 #![allow(dead_code)]
 
+pub mod fault_layer;
 pub mod gpu;
 pub mod lod;
 
