@@ -111,7 +111,8 @@ impl Input {
     /// Creates the actions and suggests the bindings of every profile the runtime accepts
     /// (a rejected profile is logged, not fatal: the others still work).
     pub fn new(instance: &xr::Instance) -> Result<Self, String> {
-        let err = |what: &str, e: xr::sys::Result| format!("OpenXR input set-up ({what}): {e}");
+        let err =
+            |what: &str, e: xr::sys::Result| format!("OpenXR input set-up ({what}): {e:?} ({e})");
         let set = instance
             .create_action_set("ocean", "Ocean", 0)
             .map_err(|e| err("xrCreateActionSet", e))?;
@@ -160,7 +161,7 @@ impl Input {
             };
             match suggest() {
                 Ok(()) => log::debug!("bindings suggested for {}", p.path),
-                Err(e) => log::warn!("the runtime rejected bindings for {}: {e}", p.path),
+                Err(e) => log::warn!("the runtime rejected bindings for {}: {e:?} ({e})", p.path),
             }
         }
         Ok(Self {
@@ -181,7 +182,7 @@ impl Input {
     pub fn attach(&self, session: &xr::Session<xr::Vulkan>) -> Result<(), String> {
         session
             .attach_action_sets(&[&self.set])
-            .map_err(|e| format!("xrAttachSessionActionSets: {e}"))
+            .map_err(|e| format!("xrAttachSessionActionSets: {e:?} ({e})"))
     }
 
     /// Syncs the actions and reads this frame's input (`dt` s since the last frame).
@@ -227,7 +228,7 @@ impl Input {
             .frequency(xr::FREQUENCY_UNSPECIFIED)
             .duration(xr::Duration::from_nanos(30_000_000));
         if let Err(e) = self.haptic.apply_feedback(session, self.right, &vibration) {
-            log::warn!("haptic feedback: {e}");
+            log::warn!("haptic feedback: {e:?} ({e})");
         }
     }
 }

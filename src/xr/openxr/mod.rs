@@ -131,7 +131,7 @@ impl Summary {
             self.depth,
             self.space,
             self.refresh_rate
-                .map_or("n/a".to_string(), |r| format!("{r}")),
+                .map_or("n/a".to_string(), |r| format!("{r:?} ({r})")),
             self.runtime
         )
     }
@@ -201,7 +201,7 @@ fn call_failed(call: &str, e: xr::sys::Result) -> XrError {
         xr::sys::Result::ERROR_SESSION_LOST => backend(format!(
             "the OpenXR session was lost ({call}: XR_ERROR_SESSION_LOST)"
         )),
-        e => backend(format!("{call}: {e}")),
+        e => backend(format!("{call}: {e:?} ({e})")),
     }
 }
 
@@ -258,7 +258,7 @@ impl OpenXr {
     fn with_instance(instance: xr::Instance, options: OpenXrOptions) -> Result<Self, XrError> {
         let props = instance
             .properties()
-            .map_err(|e| backend(format!("xrGetInstanceProperties: {e}")))?;
+            .map_err(|e| backend(format!("xrGetInstanceProperties: {e:?} ({e})")))?;
         let runtime = format!("{} {}", props.runtime_name, props.runtime_version);
         log::info!("OpenXR runtime: {runtime}");
         let system = instance
@@ -268,17 +268,17 @@ impl OpenXr {
                     "the OpenXR runtime ({runtime}) has no headset right now \
                      (XR_ERROR_FORM_FACTOR_UNAVAILABLE): connect and switch on the headset"
                 )),
-                e => backend(format!("xrGetSystem: {e}")),
+                e => backend(format!("xrGetSystem: {e:?} ({e})")),
             })?;
         let sys_props = instance
             .system_properties(system)
-            .map_err(|e| backend(format!("xrGetSystemProperties: {e}")))?;
+            .map_err(|e| backend(format!("xrGetSystemProperties: {e:?} ({e})")))?;
         log::info!("OpenXR system: {}", sys_props.system_name);
         let views = instance
             .enumerate_view_configuration_views(system, xr::ViewConfigurationType::PRIMARY_STEREO)
             .map_err(|e| {
                 backend(format!(
-                    "the runtime has no PRIMARY_STEREO view configuration: {e}"
+                    "the runtime has no PRIMARY_STEREO view configuration: {e:?} ({e})"
                 ))
             })?;
         if views.len() != 2 {
@@ -291,7 +291,7 @@ impl OpenXr {
 
         let requirements = instance
             .graphics_requirements::<xr::Vulkan>(system)
-            .map_err(|e| backend(format!("xrGetVulkanGraphicsRequirements2KHR: {e}")))?;
+            .map_err(|e| backend(format!("xrGetVulkanGraphicsRequirements2KHR: {e:?} ({e})")))?;
         let api_version = vulkan::api_version(&requirements).map_err(backend)?;
         let factory = vulkan::RuntimeVulkan::new(&instance, system);
         let ctx = GpuContext::with_factory(
@@ -353,11 +353,11 @@ impl OpenXr {
                 },
             )
         }
-        .map_err(|e| backend(format!("xrCreateSession: {e}")))?;
+        .map_err(|e| backend(format!("xrCreateSession: {e:?} ({e})")))?;
 
         let spaces = session
             .enumerate_reference_spaces()
-            .map_err(|e| backend(format!("xrEnumerateReferenceSpaces: {e}")))?;
+            .map_err(|e| backend(format!("xrEnumerateReferenceSpaces: {e:?} ({e})")))?;
         let (space_type, origin_height, space_name) =
             if spaces.contains(&xr::ReferenceSpaceType::STAGE) {
                 (
@@ -374,7 +374,7 @@ impl OpenXr {
             };
         let space = session
             .create_reference_space(space_type, xr::Posef::IDENTITY)
-            .map_err(|e| backend(format!("xrCreateReferenceSpace({space_name}): {e}")))?;
+            .map_err(|e| backend(format!("xrCreateReferenceSpace({space_name}): {e:?} ({e})")))?;
         self.locomotion = Locomotion::new(
             Vec3::new(0.0, origin_height, 0.0),
             LocomotionSettings::default(),
@@ -383,7 +383,7 @@ impl OpenXr {
 
         let formats = session
             .enumerate_swapchain_formats()
-            .map_err(|e| backend(format!("xrEnumerateSwapchainFormats: {e}")))?;
+            .map_err(|e| backend(format!("xrEnumerateSwapchainFormats: {e:?} ({e})")))?;
         let formats: Vec<i64> = formats.iter().map(|&f| f as i64).collect();
         let colour_format = swapchain::choose_colour_format(&formats).map_err(backend)?;
         let colour = ArraySwapchain::new(
@@ -436,7 +436,7 @@ impl OpenXr {
                         Some(g) => {
                             log::info!("display refresh rates {rates:?}: asking for {}", g.rate());
                             if let Err(e) = session.request_display_refresh_rate(g.rate()) {
-                                log::warn!("xrRequestDisplayRefreshRateFB: {e}");
+                                log::warn!("xrRequestDisplayRefreshRateFB: {e:?} ({e})");
                             }
                             self.summary.refresh_rate = Some(g.rate());
                         }
@@ -446,7 +446,7 @@ impl OpenXr {
                         ),
                     }
                 }
-                Err(e) => log::warn!("xrEnumerateDisplayRefreshRatesFB: {e}"),
+                Err(e) => log::warn!("xrEnumerateDisplayRefreshRatesFB: {e:?} ({e})"),
             }
         }
         if let Some(perf) = exts.ext_performance_settings.as_ref() {
@@ -471,7 +471,7 @@ impl OpenXr {
                     )
                 };
                 if r.into_raw() < 0 {
-                    log::warn!("xrPerfSettingsSetPerformanceLevelEXT({name}): {r}");
+                    log::warn!("xrPerfSettingsSetPerformanceLevelEXT({name}): {r:?} ({r})");
                 } else {
                     log::info!("{name} performance level: {level:?}");
                 }
@@ -505,7 +505,7 @@ impl OpenXr {
                 vertical_offset: 0.0,
                 dynamic: xr::FoveationDynamicFB::DISABLED,
             }))
-            .map_err(|e| log::warn!("xrCreateFoveationProfileFB: {e}"))
+            .map_err(|e| log::warn!("xrCreateFoveationProfileFB: {e:?} ({e})"))
             .ok()?;
         let state = xr::sys::SwapchainStateFoveationFB {
             ty: xr::sys::SwapchainStateFoveationFB::TYPE,
@@ -521,7 +521,7 @@ impl OpenXr {
             )
         };
         if r.into_raw() < 0 {
-            log::warn!("xrUpdateSwapchainFB (foveation): {r}");
+            log::warn!("xrUpdateSwapchainFB (foveation): {r:?} ({r})");
             return None;
         }
         log::info!("fixed foveation: {:?}", self.options.foveation);
@@ -772,7 +772,7 @@ fn create_instance(
 ) -> Result<xr::Instance, XrError> {
     let available = entry.enumerate_extensions().map_err(|e| {
         backend(format!(
-            "no active OpenXR runtime ({e}). Install one and make it active: Monado (apt \
+            "no active OpenXR runtime ({e:?} ({e})). Install one and make it active: Monado (apt \
              install monado-service, then run monado-service), SteamVR (set it as the OpenXR \
              runtime in its settings) or WiVRn; or point XR_RUNTIME_JSON at a runtime's manifest"
         ))
@@ -841,11 +841,11 @@ fn create_instance(
             ),
             xr::sys::Result::ERROR_RUNTIME_FAILURE | xr::sys::Result::ERROR_RUNTIME_UNAVAILABLE => {
                 backend(format!(
-                    "the OpenXR runtime failed to start ({e}); for Monado, is monado-service \
+                    "the OpenXR runtime failed to start ({e:?} ({e})); for Monado, is monado-service \
                      running?"
                 ))
             }
-            e => backend(format!("xrCreateInstance: {e}")),
+            e => backend(format!("xrCreateInstance: {e:?} ({e})")),
         })
 }
 
@@ -889,7 +889,7 @@ impl FrameLoop for OpenXr {
                 self.exit_sent = true;
                 log::info!("requesting exit");
                 if let Err(e) = self.parts().session.request_exit() {
-                    log::warn!("xrRequestExitSession: {e}");
+                    log::warn!("xrRequestExitSession: {e:?} ({e})");
                 }
             }
             if !self.lifecycle.running() {
@@ -1023,7 +1023,7 @@ impl FrameLoop for OpenXr {
                 log::warn!("frames do not fit the budget: asking for {rate} Hz");
                 self.summary.refresh_rate = Some(rate);
                 if let Err(e) = self.parts().session.request_display_refresh_rate(rate) {
-                    log::warn!("xrRequestDisplayRefreshRateFB: {e}");
+                    log::warn!("xrRequestDisplayRefreshRateFB: {e:?} ({e})");
                 }
             }
         }

@@ -102,13 +102,13 @@ impl ArraySwapchain {
             })
             .map_err(|e| {
                 format!(
-                    "xrCreateSwapchain ({format:?}, {}x{} x2 layers) failed: {e}",
+                    "xrCreateSwapchain ({format:?}, {}x{} x2 layers) failed: {e:?} ({e})",
                     extent.width, extent.height
                 )
             })?;
         let images = handle
             .enumerate_images()
-            .map_err(|e| format!("xrEnumerateSwapchainImages failed: {e}"))?
+            .map_err(|e| format!("xrEnumerateSwapchainImages failed: {e:?} ({e})"))?
             .into_iter()
             .map(vk::Image::from_raw)
             .collect();
@@ -147,9 +147,12 @@ mod tests {
     #[test]
     fn no_srgb_is_an_error_naming_the_offer() {
         let e = choose_colour_format(&[37, 44]).unwrap_err();
-        assert!(e.contains("no sRGB") && e.contains("R8G8B8A8_UNORM"), "{e}");
+        assert!(
+            e.contains("no sRGB") && e.contains("R8G8B8A8_UNORM"),
+            "{e:?} ({e})"
+        );
         let e = choose_colour_format(&[]).unwrap_err();
-        assert!(e.contains("offered: none"), "{e}");
+        assert!(e.contains("offered: none"), "{e:?} ({e})");
         assert!(!offers_depth(&[37]));
     }
 
@@ -178,8 +181,8 @@ mod tests {
             })
         );
         let e = eye_extent(&v, 1.2).unwrap_err();
-        assert!(e.contains("2016") || e.contains("2112"), "{e}");
-        assert!(e.contains("maximum of 2048"), "{e}");
+        assert!(e.contains("2016") || e.contains("2112"), "{e:?} ({e})");
+        assert!(e.contains("maximum of 2048"), "{e:?} ({e})");
         assert!(eye_extent(&v, 0.0001).is_err());
     }
 }

@@ -32,7 +32,7 @@ impl<'a> RuntimeVulkan<'a> {
 }
 
 fn xr_err(call: &'static str, e: xr::sys::Result) -> RenderError {
-    RenderError::Unsupported(format!("the OpenXR runtime's {call} failed: {e}"))
+    RenderError::Unsupported(format!("the OpenXR runtime's {call} failed: {e:?} ({e})"))
 }
 
 impl VulkanFactory for RuntimeVulkan<'_> {
@@ -151,6 +151,6 @@ mod tests {
         assert_eq!(api_version(&req((1, 2), (1, 3))), Ok(vk::API_VERSION_1_2));
         // One that stops at 1.0 cannot run the multiview renderer.
         let e = api_version(&req((1, 0), (1, 0))).unwrap_err();
-        assert!(e.contains("1.0 to 1.0") && e.contains("1.1"), "{e}");
+        assert!(e.contains("1.0 to 1.0") && e.contains("1.1"), "{e:?} ({e})");
     }
 }
