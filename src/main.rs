@@ -348,16 +348,18 @@ struct XrArgs {
     /// runtime ends it or Ctrl-C.
     #[arg(long)]
     frames: Option<u64>,
-    /// Factor on the runtime's recommended per-eye size, 0.1 to 4.
-    #[arg(long, allow_negative_numbers = true, default_value_t = 1.0)]
-    resolution_scale: f32,
-    /// Fixed foveation level (with XR_FB_foveation).
-    #[arg(long, value_enum, default_value_t = FoveationArg::Medium)]
-    foveation: FoveationArg,
+    /// Factor on the runtime's recommended per-eye size, 0.1 to 4 [default: the headset's, 1].
+    #[arg(long, allow_negative_numbers = true)]
+    resolution_scale: Option<f32>,
+    /// Fixed foveation level (with XR_FB_foveation) [default: the headset's: high on Quest 2,
+    /// medium elsewhere].
+    #[arg(long, value_enum)]
+    foveation: Option<FoveationArg>,
     /// Highest display refresh rate to ask for (Hz, with XR_FB_display_refresh_rate); lower
-    /// rates are taken when frames do not fit the budget.
-    #[arg(long, allow_negative_numbers = true, default_value_t = 120.0)]
-    max_refresh_rate: f32,
+    /// rates are taken when frames do not fit the budget [default: the headset's: 72 on
+    /// Quest 2, 90 on Quest Pro/3/3S, 120 elsewhere].
+    #[arg(long, allow_negative_numbers = true)]
+    max_refresh_rate: Option<f32>,
     /// CPU performance level (with XR_EXT_performance_settings).
     #[arg(long, value_enum, default_value_t = PerfArg::SustainedHigh)]
     cpu_level: PerfArg,
@@ -590,12 +592,12 @@ fn xr_cmd(a: XrArgs) -> CmdResult {
         frames: a.frames,
         resolution_scale: a.resolution_scale,
         validation: a.view.context().validation,
-        foveation: match a.foveation {
+        foveation: a.foveation.map(|f| match f {
             FoveationArg::Off => Foveation::Off,
             FoveationArg::Low => Foveation::Low,
             FoveationArg::Medium => Foveation::Medium,
             FoveationArg::High => Foveation::High,
-        },
+        }),
         max_refresh_rate: a.max_refresh_rate,
         perf_levels: (perf(a.cpu_level), perf(a.gpu_level)),
         deck_height: a.deck_height,

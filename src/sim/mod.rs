@@ -17,6 +17,7 @@ pub mod simd;
 pub mod spectrum;
 pub mod surface;
 pub mod trig;
+pub mod workers;
 
 pub use error::ParamError;
 pub use grid::{AlignedBuf, GridSize, SplitField};

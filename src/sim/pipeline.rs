@@ -338,6 +338,20 @@ impl Simulation {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .thread_name(|i| format!("ocean-sim-{i}"))
+            .start_handler(|i| {
+                // On Android (the Quest) above normal; the render thread keeps the normal
+                // priority. Desktops keep the default: there the GPU driver may be CPU threads
+                // (lavapipe) that must not be starved.
+                let raised = cfg!(target_os = "android")
+                    && super::workers::raise_thread_priority(super::workers::WORKER_NICE);
+                if i == 0 {
+                    log::debug!(
+                        "simulation workers at nice {}: {}",
+                        super::workers::WORKER_NICE,
+                        if raised { "yes" } else { "not permitted" }
+                    );
+                }
+            })
             .build()
             .map_err(|e| SimError::Threads(e.to_string()))?;
         let mut core = pool.install(|| SimCore::new(config.clone()))?;

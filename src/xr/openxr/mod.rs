@@ -27,7 +27,7 @@ use openxr as xr;
 
 use self::input::Input;
 use self::lifecycle::{Action, Event, ExitReason, Lifecycle};
-use self::quest::{Foveation, PerfLevel, RefreshGovernor};
+use self::quest::{Foveation, Headset, PerfLevel, RefreshGovernor};
 use self::swapchain::ArraySwapchain;
 use super::locomotion::{Locomotion, LocomotionSettings};
 use super::{Acquired, FrameLoop, FrameState, Tweak, XrError, MAX_TWEAKS};
@@ -39,14 +39,15 @@ use crate::render::{ContextOptions, GpuContext, TargetImages, Validation};
 pub struct OpenXrOptions {
     /// Ask the runtime to end the session after this many submitted frames (tests, CI).
     pub frames: Option<u64>,
-    /// Factor on the runtime's recommended per-eye size.
-    pub resolution_scale: f32,
+    /// Factor on the runtime's recommended per-eye size (`None`: the headset's default).
+    pub resolution_scale: Option<f32>,
     /// Vulkan validation layer policy.
     pub validation: Validation,
-    /// Fixed foveation level (with `XR_FB_foveation`).
-    pub foveation: Foveation,
-    /// Highest display refresh rate to ask for (Hz, with `XR_FB_display_refresh_rate`).
-    pub max_refresh_rate: f32,
+    /// Fixed foveation level (with `XR_FB_foveation`; `None`: the headset's default).
+    pub foveation: Option<Foveation>,
+    /// Highest display refresh rate to ask for (Hz, with `XR_FB_display_refresh_rate`;
+    /// `None`: the headset's default).
+    pub max_refresh_rate: Option<f32>,
     /// CPU and GPU levels (with `XR_EXT_performance_settings`).
     pub perf_levels: (PerfLevel, PerfLevel),
     /// Height of the tracking floor above the mean sea level (m): the user stands on a deck.
@@ -59,10 +60,10 @@ impl Default for OpenXrOptions {
     fn default() -> Self {
         Self {
             frames: None,
-            resolution_scale: 1.0,
+            resolution_scale: None,
             validation: Validation::IfAvailable,
-            foveation: Foveation::Medium,
-            max_refresh_rate: 120.0,
+            foveation: None,
+            max_refresh_rate: None,
             perf_levels: (PerfLevel::SustainedHigh, PerfLevel::SustainedHigh),
             deck_height: 2.9,
             preset: QualityPreset::Medium,
@@ -167,6 +168,7 @@ pub struct OpenXr {
     ctx: Option<GpuContext>,
     instance: xr::Instance,
     lifecycle: Lifecycle,
+    headset: Headset,
     exit_sent: bool,
     pending: Option<Pending>,
     extent: vk::Extent2D,
@@ -209,19 +211,19 @@ impl OpenXr {
     /// Loads the OpenXR loader, connects to the active runtime and sets everything up for the
     /// frame loop. Every failure is an error whose message names what is missing.
     pub fn new(options: OpenXrOptions) -> Result<Self, XrError> {
-        if !(options.resolution_scale.is_finite()
-            && (0.1..=4.0).contains(&options.resolution_scale))
-        {
-            return Err(backend(format!(
-                "resolution scale {}: must be in [0.1, 4]",
-                options.resolution_scale
-            )));
+        if let Some(s) = options.resolution_scale {
+            if !(s.is_finite() && (0.1..=4.0).contains(&s)) {
+                return Err(backend(format!(
+                    "resolution scale {s}: must be in [0.1, 4]"
+                )));
+            }
         }
-        if !(options.max_refresh_rate.is_finite() && options.max_refresh_rate >= 1.0) {
-            return Err(backend(format!(
-                "maximum refresh rate {}: must be at least 1 Hz",
-                options.max_refresh_rate
-            )));
+        if let Some(r) = options.max_refresh_rate {
+            if !(r.is_finite() && r >= 1.0) {
+                return Err(backend(format!(
+                    "maximum refresh rate {r}: must be at least 1 Hz"
+                )));
+            }
         }
         if !(options.deck_height.is_finite() && options.deck_height.abs() <= 1000.0) {
             return Err(backend(format!(
@@ -273,7 +275,12 @@ impl OpenXr {
         let sys_props = instance
             .system_properties(system)
             .map_err(|e| backend(format!("xrGetSystemProperties: {e:?} ({e})")))?;
-        log::info!("OpenXR system: {}", sys_props.system_name);
+        let headset = Headset::from_system_name(&sys_props.system_name);
+        let defaults = headset.defaults();
+        log::info!("OpenXR system: {} ({headset:?})", sys_props.system_name);
+        let scale = options
+            .resolution_scale
+            .unwrap_or(defaults.resolution_scale);
         let views = instance
             .enumerate_view_configuration_views(system, xr::ViewConfigurationType::PRIMARY_STEREO)
             .map_err(|e| {
@@ -287,7 +294,7 @@ impl OpenXr {
                 views.len()
             )));
         }
-        let extent = swapchain::eye_extent(&views[0], options.resolution_scale).map_err(backend)?;
+        let extent = swapchain::eye_extent(&views[0], scale).map_err(backend)?;
 
         let requirements = instance
             .graphics_requirements::<xr::Vulkan>(system)
@@ -314,6 +321,7 @@ impl OpenXr {
             pending: None,
             extent,
             locomotion: Locomotion::new(Vec3::ZERO, LocomotionSettings::default()),
+            headset,
             preset: options.preset,
             refresh: None,
             options,
@@ -431,7 +439,7 @@ impl OpenXr {
             let _ = ext;
             match session.enumerate_display_refresh_rates() {
                 Ok(rates) => {
-                    self.refresh = RefreshGovernor::new(&rates, self.options.max_refresh_rate);
+                    self.refresh = RefreshGovernor::new(&rates, self.max_refresh_rate());
                     match &self.refresh {
                         Some(g) => {
                             log::info!("display refresh rates {rates:?}: asking for {}", g.rate());
@@ -442,7 +450,7 @@ impl OpenXr {
                         }
                         None => log::warn!(
                             "no display refresh rate at or under {} Hz in {rates:?}",
-                            self.options.max_refresh_rate
+                            self.max_refresh_rate()
                         ),
                     }
                 }
@@ -501,7 +509,7 @@ impl OpenXr {
         exts.fb_foveation.as_ref()?;
         let profile = session
             .create_foveation_profile(Some(xr::FoveationLevelProfile {
-                level: self.options.foveation.level(),
+                level: self.foveation().level(),
                 vertical_offset: 0.0,
                 dynamic: xr::FoveationDynamicFB::DISABLED,
             }))
@@ -524,8 +532,27 @@ impl OpenXr {
             log::warn!("xrUpdateSwapchainFB (foveation): {r:?} ({r})");
             return None;
         }
-        log::info!("fixed foveation: {:?}", self.options.foveation);
+        log::info!("fixed foveation: {:?}", self.foveation());
         Some(profile)
+    }
+
+    /// The headset the runtime reports.
+    pub fn headset(&self) -> Headset {
+        self.headset
+    }
+
+    /// The refresh rate cap in use: the option, or the headset's default.
+    fn max_refresh_rate(&self) -> f32 {
+        self.options
+            .max_refresh_rate
+            .unwrap_or(self.headset.defaults().max_refresh_rate)
+    }
+
+    /// The foveation level in use: the option, or the headset's default.
+    fn foveation(&self) -> Foveation {
+        self.options
+            .foveation
+            .unwrap_or(self.headset.defaults().foveation)
     }
 
     /// The session summary so far.
