@@ -4,6 +4,7 @@
 
 pub mod gpu;
 pub mod lod;
+pub mod monado;
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::PathBuf;
