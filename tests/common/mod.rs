@@ -5,6 +5,7 @@
 pub mod fault_layer;
 pub mod gpu;
 pub mod lod;
+pub mod monado;
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::PathBuf;

@@ -1,14 +1,18 @@
 //! `cargo xtask`: project automation for vr-ocean (std only, no dependencies).
 //!
 //! * `cargo xtask test [--quick] [--no-setup]`: the single test command. Installs what is
-//!   missing (apt packages, rustup components/targets), then runs fmt, clippy, host tests and
-//!   the aarch64 (NEON) tests under qemu, stopping at the first failure.
+//!   missing (apt packages, rustup components/targets), then runs fmt, clippy, host tests, the
+//!   frame-time tests, the OpenXR tests against Monado in a Debian trixie chroot (as root; see
+//!   [`monado`]) and the aarch64 (NEON) tests under qemu, stopping at the first failure.
 //! * `cargo xtask run [ARGS]`: `cargo run --release --bin vr-ocean -- ARGS`; without ARGS the
 //!   ocean window (headless PNGs in `./vr-ocean-headless/` when there is no display).
 //! * `cargo xtask bench [--criterion] [--no-setup] [ARGS]`: FFT benchmarks against FFTW.
+//! * `cargo xtask monado-root`: makes sure the Monado chroot exists and prints its path.
 //!
 //! The target directory is never chosen here: nested cargo calls inherit `CARGO_TARGET_DIR`
 //! when the user set it and otherwise use the workspace default.
+
+mod monado;
 
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
@@ -35,6 +39,10 @@ const APT_PACKAGES: &[&str] = &[
     // `xauth`).
     "xvfb",
     "xauth",
+    // The OpenXR tests run Monado in a Debian trixie chroot (Monado is not in bookworm):
+    // debootstrap builds it, zstd packs and unpacks its cached tarball.
+    "debootstrap",
+    "zstd",
 ];
 
 /// Extra packages for `cargo xtask bench` (the `fftw` feature links libfftw3f).
@@ -59,7 +67,12 @@ struct Step {
     cargo_args: &'static [&'static str],
     /// Skipped by `--quick` (slow steps).
     slow: bool,
+    /// Runs before cargo (a failure fails the step); returns environment variables for it.
+    prepare: Option<Prepare>,
 }
+
+/// A step's preparation: returns `(name, value)` environment variables for its cargo command.
+type Prepare = fn() -> Result<Vec<(String, String)>>;
 
 const STEPS: &[Step] = &[
     Step {
@@ -67,6 +80,7 @@ const STEPS: &[Step] = &[
         header: "rustfmt check",
         cargo_args: &["fmt", "--all", "--", "--check"],
         slow: false,
+        prepare: None,
     },
     Step {
         name: "clippy",
@@ -80,6 +94,7 @@ const STEPS: &[Step] = &[
             "warnings",
         ],
         slow: false,
+        prepare: None,
     },
     Step {
         name: "test (host)",
@@ -92,6 +107,7 @@ const STEPS: &[Step] = &[
             "frame_times_on_lavapipe",
         ],
         slow: false,
+        prepare: None,
     },
     Step {
         name: "frame times",
@@ -104,6 +120,22 @@ const STEPS: &[Step] = &[
             "--nocapture",
         ],
         slow: true,
+        prepare: None,
+    },
+    Step {
+        name: "openxr (Monado)",
+        header: "OpenXR tests against Monado (trixie chroot, null compositor, simulated HMD; needs root)",
+        cargo_args: &[
+            "test",
+            "--test",
+            "openxr_monado",
+            "--",
+            "--ignored",
+            "--nocapture",
+            "--test-threads=1",
+        ],
+        slow: true,
+        prepare: Some(monado::prepare_step),
     },
     Step {
         name: "test (aarch64/qemu)",
@@ -117,6 +149,7 @@ const STEPS: &[Step] = &[
             CROSS_TARGET,
         ],
         slow: true,
+        prepare: None,
     },
 ];
 
@@ -131,8 +164,12 @@ commands:
           cargo fmt --all -- --check
           cargo clippy --workspace --all-targets -- -D warnings
           cargo test --workspace
+          cargo test --test frame_times -- --nocapture
+          cargo test --test openxr_monado -- --ignored --nocapture --test-threads=1
+              (needs root: first makes sure the Monado root exists, see monado-root,
+              and passes its path in VR_OCEAN_MONADO_ROOT)
           cargo test --lib --test sim_physics --target aarch64-unknown-linux-gnu   (qemu)
-        --quick      skip the aarch64 cross step
+        --quick      skip the slow steps (frame times, Monado, aarch64)
         --no-setup   install nothing; only run the checks
   run [ARGS...]
         cargo run --release --bin vr-ocean -- ARGS...
@@ -143,6 +180,14 @@ commands:
           cargo run --release --features fftw --bin vr-ocean -- bench ARGS...
         --criterion  afterwards also run: cargo bench --features fftw --bench fft
         Arguments after `--` go to `vr-ocean bench` untouched.
+  monado-root
+        As root: makes sure the Debian trixie chroot with Monado exists, then prints its
+        path (alone on stdout). It is $VR_OCEAN_CACHE/monado-trixie (default cache dir
+        /var/cache/vr-ocean), restored from monado-trixie.tar.zst there or built with
+        debootstrap (about 100 s) when missing or when its package list changed. Run the
+        OpenXR tests by hand with:
+          export VR_OCEAN_MONADO_ROOT=$(cargo xtask monado-root)
+          cargo test --test openxr_monado -- --ignored --nocapture --test-threads=1
   help
         This text.
 
@@ -159,6 +204,10 @@ fn main() -> ExitCode {
         "test" => parse_test_args(rest).and_then(|opts| cmd_test(&opts)),
         "run" => cmd_run(rest),
         "bench" => parse_bench_args(rest).and_then(|opts| cmd_bench(&opts)),
+        "monado-root" if rest.is_empty() => monado::ensure_root().map(|root| {
+            println!("{}", root.display());
+        }),
+        "monado-root" => Err(Failure::Usage("monado-root takes no arguments".into())),
         "help" | "-h" | "--help" => {
             print!("{USAGE}");
             Ok(())
@@ -273,7 +322,8 @@ fn cmd_test(opts: &TestOpts) -> Result<()> {
         rows.push(("set-up".into(), Outcome::Ok(took)));
     }
 
-    let mut failed: Option<&Step> = None;
+    // The failed step and what failed in it.
+    let mut failed: Option<(&Step, String)> = None;
     for step in STEPS {
         if failed.is_some() {
             rows.push((step.name.into(), Outcome::NotRun));
@@ -286,24 +336,38 @@ fn cmd_test(opts: &TestOpts) -> Result<()> {
         }
         banner(&format!("step `{}`: {}", step.name, step.header));
         let start = Instant::now();
-        let ok = run_status(cargo().args(step.cargo_args).current_dir(&root))?.success();
+        let outcome = match step.prepare.map_or(Ok(Vec::new()), |prepare| prepare()) {
+            Ok(envs) => {
+                for (key, value) in &envs {
+                    say(&format!("with {key}={value}"));
+                }
+                let mut cmd = cargo();
+                cmd.args(step.cargo_args).envs(envs).current_dir(&root);
+                let ok = run_status(&mut cmd)?.success();
+                ok.then_some(())
+                    .ok_or_else(|| format!("cargo {}", step.cargo_args.join(" ")))
+            }
+            Err(err) => {
+                if let Failure::Msg(msg) = err {
+                    eprintln!("xtask: error: {msg}");
+                }
+                Err("its preparation (see the error above)".into())
+            }
+        };
         let took = start.elapsed();
-        if ok {
-            rows.push((step.name.into(), Outcome::Ok(took)));
-        } else {
-            rows.push((step.name.into(), Outcome::Failed(took)));
-            failed = Some(step);
+        match outcome {
+            Ok(()) => rows.push((step.name.into(), Outcome::Ok(took))),
+            Err(what) => {
+                rows.push((step.name.into(), Outcome::Failed(took)));
+                failed = Some((step, what));
+            }
         }
     }
 
     print_summary(&rows);
     match failed {
-        Some(step) => {
-            say(&format!(
-                "FAILED at step `{}`: cargo {}",
-                step.name,
-                step.cargo_args.join(" ")
-            ));
+        Some((step, what)) => {
+            say(&format!("FAILED at step `{}`: {what}", step.name));
             Err(Failure::Exit(1))
         }
         None => {
