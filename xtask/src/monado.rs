@@ -79,6 +79,16 @@ pub fn stamp_text() -> String {
 /// The `prepare` hook of the `openxr (Monado)` step: the root's path for the tests.
 pub fn prepare_step() -> Result<Vec<(String, String)>> {
     let root = ensure_root()?;
+    // The failure tests load the fault-injection API layer into the client
+    // (`tests/common/fault_layer.rs` finds it next to the test binaries, same profile).
+    note("building the OpenXR fault-injection layer (tests/fixtures/xr-fault-layer)");
+    let status = crate::cargo()
+        .args(["build", "-p", "xr-fault-layer"])
+        .status()
+        .map_err(|e| Failure::Msg(format!("cannot run cargo: {e}")))?;
+    if !status.success() {
+        return Err(Failure::Msg("cargo build -p xr-fault-layer failed".into()));
+    }
     Ok(vec![(
         "VR_OCEAN_MONADO_ROOT".into(),
         root.to_string_lossy().into_owned(),
