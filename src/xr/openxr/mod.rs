@@ -132,7 +132,7 @@ impl Summary {
             self.depth,
             self.space,
             self.refresh_rate
-                .map_or("n/a".to_string(), |r| format!("{r:?} ({r})")),
+                .map_or("n/a".to_string(), |r| format!("{r}")),
             self.runtime
         )
     }
