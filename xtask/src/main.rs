@@ -129,6 +129,8 @@ const STEPS: &[Step] = &[
             "test",
             "--test",
             "openxr_monado",
+            "--test",
+            "openxr_no_alloc",
             "--",
             "--ignored",
             "--nocapture",
@@ -165,8 +167,8 @@ commands:
           cargo clippy --workspace --all-targets -- -D warnings
           cargo test --workspace
           cargo test --test frame_times -- --nocapture
-          cargo test --test openxr_monado -- --ignored --nocapture --test-threads=1
-              (needs root: first makes sure the Monado root exists, see monado-root,
+          cargo test --test openxr_monado --test openxr_no_alloc -- --ignored --nocapture
+              --test-threads=1 (needs root: first makes sure the Monado root exists, see monado-root,
               and passes its path in VR_OCEAN_MONADO_ROOT)
           cargo test --lib --test sim_physics --target aarch64-unknown-linux-gnu   (qemu)
         --quick      skip the slow steps (frame times, Monado, aarch64)
@@ -187,7 +189,7 @@ commands:
         debootstrap (about 100 s) when missing or when its package list changed. Run the
         OpenXR tests by hand with:
           export VR_OCEAN_MONADO_ROOT=$(cargo xtask monado-root)
-          cargo test --test openxr_monado -- --ignored --nocapture --test-threads=1
+          cargo test --test openxr_monado --test openxr_no_alloc -- --ignored --nocapture --test-threads=1
   help
         This text.
 

@@ -1,0 +1,106 @@
+//! The OpenXR frame loop (events, xrWaitFrame/xrBeginFrame, view location, input, swapchain
+//! acquire/release, xrEndFrame with the projection and depth layers) plus the simulation
+//! hand-over, LOD and rendering makes no Rust heap allocation per frame once warm, against a
+//! real runtime (Monado).
+//!
+//! One binary, two roles: run by the test harness it starts Monado in the trixie root and runs
+//! itself inside the root as the client (`VR_OCEAN_NO_ALLOC_CLIENT`), which counts allocations
+//! with the counting allocator between frames 40 and 120. Like the `#[ignore]`d tests of
+//! `openxr_monado`, it runs only when asked with `--ignored` (the `openxr (Monado)` step of
+//! `cargo xtask test`): it needs root and `VR_OCEAN_MONADO_ROOT`.
+
+mod common;
+
+use std::time::Duration;
+
+use common::gpu;
+use common::monado::{self, Monado};
+use vr_ocean::app::{self, RunHooks};
+use vr_ocean::render::{StereoMode, Validation};
+use vr_ocean::xr::openxr::{OpenXr, OpenXrOptions};
+use vr_ocean::xr::FrameState;
+
+#[global_allocator]
+static GLOBAL: common::Counting = common::Counting;
+
+const NAME: &str = "openxr_frame_loop_allocates_nothing_per_frame";
+const CLIENT_ENV: &str = "VR_OCEAN_NO_ALLOC_CLIENT";
+const FROM: u64 = 40;
+const TO: u64 = 120;
+
+struct CountFrames {
+    counted: Option<usize>,
+}
+
+impl RunHooks for CountFrames {
+    fn frame_done(&mut self, frame: &FrameState) {
+        if frame.index == FROM {
+            common::set_counting(true);
+        } else if frame.index == TO {
+            common::set_counting(false);
+            self.counted = Some(common::allocations());
+        }
+    }
+}
+
+/// Inside the root: a session of `TO + 10` frames, counting allocations in between.
+fn client() {
+    let mut xr = OpenXr::new(OpenXrOptions {
+        frames: Some(TO + 10),
+        validation: Validation::Off,
+        ..OpenXrOptions::default()
+    })
+    .unwrap_or_else(|e| panic!("OpenXR set-up: {e}"));
+    let opts = gpu::small_options(StereoMode::Multiview, Vec::new());
+    let mut hooks = CountFrames { counted: None };
+    let report = app::run(&mut xr, &opts, &mut hooks).unwrap_or_else(|e| panic!("run: {e}"));
+    let summary = xr.summary();
+    drop(xr);
+    let n = hooks
+        .counted
+        .unwrap_or_else(|| panic!("only {} frames ran", report.frames));
+    println!(
+        "allocations in {} steady-state OpenXR frames: {n} (states {})",
+        TO - FROM,
+        summary.states
+    );
+    std::process::exit(if n == 0 { 0 } else { 1 });
+}
+
+fn openxr_frame_loop_allocates_nothing_per_frame() {
+    let root = monado::root_from_env();
+    let service = Monado::start(&root, "noalloc");
+    let exe = std::env::current_exe().expect("own path");
+    let run = service.client(
+        &exe,
+        &[],
+        &[(CLIENT_ENV, "1"), ("RUST_LOG", "warn")],
+        Duration::from_secs(300),
+    );
+    let _ = service.finish();
+    assert!(
+        run.stdout.contains(&format!(
+            "allocations in {} steady-state OpenXR frames: 0 ",
+            TO - FROM
+        )),
+        "{run}"
+    );
+    assert!(run.success(), "{run}");
+}
+
+/// No libtest harness (`harness = false`): the counter is process-wide (see
+/// `render_no_alloc.rs`).
+fn main() {
+    if std::env::var_os(CLIENT_ENV).is_some() {
+        client();
+        return;
+    }
+    let asked = std::env::args().any(|a| a == "--ignored" || a == "--include-ignored");
+    print!("test {NAME} ... ");
+    if !asked {
+        println!("ignored, needs root and the Monado root (the `openxr (Monado)` step)");
+        return;
+    }
+    openxr_frame_loop_allocates_nothing_per_frame();
+    println!("ok");
+}
