@@ -6,9 +6,17 @@
 //! * `cargo xtask run [ARGS]`: `cargo run --release --bin vr-ocean -- ARGS`; without ARGS the
 //!   ocean window (headless PNGs in `./vr-ocean-headless/` when there is no display).
 //! * `cargo xtask bench [--criterion] [--no-setup] [ARGS]`: FFT benchmarks against FFTW.
+//! * `cargo xtask apk [--release] [--openxr-loader PATH] [--verify-without-ndk]`,
+//!   `install [--release]`, `launch`: the Quest APK ([`apk`]); `apk-check`: CI's checks of
+//!   the APK built without the NDK ([`apk_check`], [`android_stubs`], [`openxr_loader`]).
 //!
 //! The target directory is never chosen here: nested cargo calls inherit `CARGO_TARGET_DIR`
 //! when the user set it and otherwise use the workspace default.
+
+mod android_stubs;
+mod apk;
+mod apk_check;
+mod openxr_loader;
 
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
@@ -35,6 +43,18 @@ const APT_PACKAGES: &[&str] = &[
     // `xauth`).
     "xvfb",
     "xauth",
+    // The APK checked without the NDK: aapt and aapt2 (package `aapt`), zipalign, apksigner
+    // (its Java runtime brings keytool), framework-res.apk of API 29 as aapt2's `-I`, clang and
+    // lld for the stub system libraries, llvm for llvm-readelf, zip/unzip for the loader AAR.
+    "aapt",
+    "zipalign",
+    "apksigner",
+    "android-framework-res",
+    "clang",
+    "lld",
+    "llvm",
+    "zip",
+    "unzip",
 ];
 
 /// Extra packages for `cargo xtask bench` (the `fftw` feature links libfftw3f).
@@ -46,8 +66,8 @@ const RUSTUP_COMPONENTS: &[&str] = &["rustfmt", "clippy"];
 /// The cross target: Quest-class hardware is aarch64, so the NEON kernels are tested there.
 const CROSS_TARGET: &str = "aarch64-unknown-linux-gnu";
 
-/// rustup targets the checks use.
-const RUSTUP_TARGETS: &[&str] = &[CROSS_TARGET];
+/// rustup targets the checks use (the Quest's for clippy and the APK).
+const RUSTUP_TARGETS: &[&str] = &[CROSS_TARGET, apk::ANDROID_TARGET];
 
 /// One check of `cargo xtask test`. Adding a check is adding one entry to [`STEPS`].
 struct Step {
@@ -75,6 +95,20 @@ const STEPS: &[Step] = &[
             "clippy",
             "--workspace",
             "--all-targets",
+            "--",
+            "-D",
+            "warnings",
+        ],
+        slow: false,
+    },
+    Step {
+        name: "clippy (android)",
+        header: "clippy for aarch64-linux-android (the Quest library; no C compiler needed)",
+        cargo_args: &[
+            "clippy",
+            "--target",
+            apk::ANDROID_TARGET,
+            "--lib",
             "--",
             "-D",
             "warnings",
@@ -118,6 +152,12 @@ const STEPS: &[Step] = &[
         ],
         slow: true,
     },
+    Step {
+        name: "apk (verify without NDK)",
+        header: "the Quest APK linked without the NDK (rust-lld, API 29 stubs, -z defs), packaged with Debian's aapt2, signed, then checked (cargo xtask apk-check)",
+        cargo_args: &["run", "--quiet", "--package", "xtask", "--", "apk-check"],
+        slow: true,
+    },
 ];
 
 const USAGE: &str = "\
@@ -130,9 +170,11 @@ commands:
         in order, stopping at the first failure:
           cargo fmt --all -- --check
           cargo clippy --workspace --all-targets -- -D warnings
+          cargo clippy --target aarch64-linux-android --lib -- -D warnings
           cargo test --workspace
           cargo test --lib --test sim_physics --target aarch64-unknown-linux-gnu   (qemu)
-        --quick      skip the aarch64 cross step
+          cargo xtask apk-check
+        --quick      skip the slow steps (frame times, aarch64, APK)
         --no-setup   install nothing; only run the checks
   run [ARGS...]
         cargo run --release --bin vr-ocean -- ARGS...
@@ -143,6 +185,22 @@ commands:
           cargo run --release --features fftw --bin vr-ocean -- bench ARGS...
         --criterion  afterwards also run: cargo bench --features fftw --bench fft
         Arguments after `--` go to `vr-ocean bench` untouched.
+  apk [--release] [--openxr-loader PATH] [--verify-without-ndk]
+        The Quest APK: needs ANDROID_NDK_HOME (NDK r23+) and ANDROID_HOME or
+        ANDROID_SDK_ROOT (build-tools, a platform >= 29), and the Khronos OpenXR loader:
+        --openxr-loader takes its AAR (openxr_loader_for_android) or an arm64
+        libopenxr_loader.so; without it the AAR is downloaded from Maven Central.
+        Prints the APK path (<target dir>/apk/vr-ocean-debug.apk or -release.apk).
+        --verify-without-ndk  CI only: links with rust-lld against API 29 stubs and
+                     packages with Debian's tools; no download, and without
+                     --openxr-loader the APK has no loader and cannot run.
+  install [--release]
+        adb install -r of the APK `apk` made.
+  launch
+        adb shell am start of the app, then logcat for its tag (vr-ocean) and DEBUG.
+  apk-check
+        Builds the APK with --verify-without-ndk and checks it (signature, badging,
+        manifest, ELF exports and dependencies, alignment, loader packaging).
   help
         This text.
 
@@ -159,6 +217,16 @@ fn main() -> ExitCode {
         "test" => parse_test_args(rest).and_then(|opts| cmd_test(&opts)),
         "run" => cmd_run(rest),
         "bench" => parse_bench_args(rest).and_then(|opts| cmd_bench(&opts)),
+        "apk" => apk::parse_apk_args(rest).and_then(|opts| apk::cmd_apk(&opts)),
+        "install" => apk::parse_release_flag("install", rest).and_then(apk::cmd_install),
+        "launch" => apk::parse_release_flag("launch", rest).and_then(|_| apk::cmd_launch()),
+        "apk-check" => {
+            if rest.is_empty() {
+                apk_check::cmd_apk_check()
+            } else {
+                Err(Failure::Usage("apk-check takes no options".into()))
+            }
+        }
         "help" | "-h" | "--help" => {
             print!("{USAGE}");
             Ok(())
