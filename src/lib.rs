@@ -1,11 +1,12 @@
 //! vr-ocean: an endless FFT ocean for OpenXR headsets.
 //!
 //! Data flows one way: [`sim`] (CPU ocean fields) → [`lod`] (quadtree geometry) → [`render`]
-//! (Vulkan) → [`xr`] (the frame loop's backends), tied together by [`app`]. See
-//! `ARCHITECTURE.md`.
+//! (Vulkan) → [`xr`] (the frame loop's backends), tied together by [`app`]. [`android`] is the Quest APK's
+//! edge (`android_main`). See `ARCHITECTURE.md`.
 
 #![warn(missing_docs)]
 
+pub mod android;
 pub mod app;
 pub mod bench;
 pub mod export;

@@ -601,7 +601,7 @@ fn xr_cmd(a: XrArgs) -> CmdResult {
         max_refresh_rate: a.max_refresh_rate,
         perf_levels: (perf(a.cpu_level), perf(a.gpu_level)),
         deck_height: a.deck_height,
-        preset: preset(a.view.preset),
+        preset: Some(preset(a.view.preset)),
     })?;
     exit_signal::install();
     let extent = xr.targets().extent;

@@ -8,11 +8,18 @@
 //!   ocean window (headless PNGs in `./vr-ocean-headless/` when there is no display).
 //! * `cargo xtask bench [--criterion] [--no-setup] [ARGS]`: FFT benchmarks against FFTW.
 //! * `cargo xtask monado-root`: makes sure the Monado chroot exists and prints its path.
+//! * `cargo xtask apk [--release] [--openxr-loader PATH] [--verify-without-ndk]`,
+//!   `install [--release]`, `launch`: the Quest APK ([`apk`]); `apk-check`: CI's checks of
+//!   the APK built without the NDK ([`apk_check`], [`android_stubs`], [`openxr_loader`]).
 //!
 //! The target directory is never chosen here: nested cargo calls inherit `CARGO_TARGET_DIR`
 //! when the user set it and otherwise use the workspace default.
 
+mod android_stubs;
+mod apk;
+mod apk_check;
 mod monado;
+mod openxr_loader;
 
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
@@ -43,6 +50,18 @@ const APT_PACKAGES: &[&str] = &[
     // debootstrap builds it, zstd packs and unpacks its cached tarball.
     "debootstrap",
     "zstd",
+    // The APK checked without the NDK: aapt and aapt2 (package `aapt`), zipalign, apksigner
+    // (its Java runtime brings keytool), framework-res.apk of API 29 as aapt2's `-I`, clang and
+    // lld for the stub system libraries, llvm for llvm-readelf, zip/unzip for the loader AAR.
+    "aapt",
+    "zipalign",
+    "apksigner",
+    "android-framework-res",
+    "clang",
+    "lld",
+    "llvm",
+    "zip",
+    "unzip",
 ];
 
 /// Extra packages for `cargo xtask bench` (the `fftw` feature links libfftw3f).
@@ -54,8 +73,8 @@ const RUSTUP_COMPONENTS: &[&str] = &["rustfmt", "clippy"];
 /// The cross target: Quest-class hardware is aarch64, so the NEON kernels are tested there.
 const CROSS_TARGET: &str = "aarch64-unknown-linux-gnu";
 
-/// rustup targets the checks use.
-const RUSTUP_TARGETS: &[&str] = &[CROSS_TARGET];
+/// rustup targets the checks use (the Quest's for clippy and the APK).
+const RUSTUP_TARGETS: &[&str] = &[CROSS_TARGET, apk::ANDROID_TARGET];
 
 /// One check of `cargo xtask test`. Adding a check is adding one entry to [`STEPS`].
 struct Step {
@@ -89,6 +108,21 @@ const STEPS: &[Step] = &[
             "clippy",
             "--workspace",
             "--all-targets",
+            "--",
+            "-D",
+            "warnings",
+        ],
+        slow: false,
+        prepare: None,
+    },
+    Step {
+        name: "clippy (android)",
+        header: "clippy for aarch64-linux-android (the Quest library; no C compiler needed)",
+        cargo_args: &[
+            "clippy",
+            "--target",
+            apk::ANDROID_TARGET,
+            "--lib",
             "--",
             "-D",
             "warnings",
@@ -153,6 +187,13 @@ const STEPS: &[Step] = &[
         slow: true,
         prepare: None,
     },
+    Step {
+        name: "apk (verify without NDK)",
+        header: "the Quest APK linked without the NDK (rust-lld, API 29 stubs, -z defs), packaged with Debian's aapt2, signed, then checked (cargo xtask apk-check)",
+        cargo_args: &["run", "--quiet", "--package", "xtask", "--", "apk-check"],
+        slow: true,
+        prepare: None,
+    },
 ];
 
 const USAGE: &str = "\
@@ -165,13 +206,15 @@ commands:
         in order, stopping at the first failure:
           cargo fmt --all -- --check
           cargo clippy --workspace --all-targets -- -D warnings
+          cargo clippy --target aarch64-linux-android --lib -- -D warnings
           cargo test --workspace
           cargo test --test frame_times -- --nocapture
           cargo test --test openxr_monado --test openxr_no_alloc -- --ignored --nocapture
               --test-threads=1 (needs root: first makes sure the Monado root exists, see monado-root,
               and passes its path in VR_OCEAN_MONADO_ROOT)
           cargo test --lib --test sim_physics --target aarch64-unknown-linux-gnu   (qemu)
-        --quick      skip the slow steps (frame times, Monado, aarch64)
+          cargo xtask apk-check
+        --quick      skip the slow steps (frame times, Monado, APK, aarch64)
         --no-setup   install nothing; only run the checks
   run [ARGS...]
         cargo run --release --bin vr-ocean -- ARGS...
@@ -190,6 +233,22 @@ commands:
         OpenXR tests by hand with:
           export VR_OCEAN_MONADO_ROOT=$(cargo xtask monado-root)
           cargo test --test openxr_monado --test openxr_no_alloc -- --ignored --nocapture --test-threads=1
+  apk [--release] [--openxr-loader PATH] [--verify-without-ndk]
+        The Quest APK: needs ANDROID_NDK_HOME (NDK r23+) and ANDROID_HOME or
+        ANDROID_SDK_ROOT (build-tools, a platform >= 29), and the Khronos OpenXR loader:
+        --openxr-loader takes its AAR (openxr_loader_for_android) or an arm64
+        libopenxr_loader.so; without it the AAR is downloaded from Maven Central.
+        Prints the APK path (<target dir>/apk/vr-ocean-debug.apk or -release.apk).
+        --verify-without-ndk  CI only: links with rust-lld against API 29 stubs and
+                     packages with Debian's tools; no download, and without
+                     --openxr-loader the APK has no loader and cannot run.
+  install [--release]
+        adb install -r of the APK `apk` made.
+  launch
+        adb shell am start of the app, then logcat for its tag (vr-ocean) and DEBUG.
+  apk-check
+        Builds the APK with --verify-without-ndk and checks it (signature, badging,
+        manifest, ELF exports and dependencies, alignment, loader packaging).
   help
         This text.
 
@@ -210,6 +269,16 @@ fn main() -> ExitCode {
             println!("{}", root.display());
         }),
         "monado-root" => Err(Failure::Usage("monado-root takes no arguments".into())),
+        "apk" => apk::parse_apk_args(rest).and_then(|opts| apk::cmd_apk(&opts)),
+        "install" => apk::parse_release_flag("install", rest).and_then(apk::cmd_install),
+        "launch" => apk::parse_release_flag("launch", rest).and_then(|_| apk::cmd_launch()),
+        "apk-check" => {
+            if rest.is_empty() {
+                apk_check::cmd_apk_check()
+            } else {
+                Err(Failure::Usage("apk-check takes no options".into()))
+            }
+        }
         "help" | "-h" | "--help" => {
             print!("{USAGE}");
             Ok(())

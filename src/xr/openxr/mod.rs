@@ -52,8 +52,9 @@ pub struct OpenXrOptions {
     pub perf_levels: (PerfLevel, PerfLevel),
     /// Height of the tracking floor above the mean sea level (m): the user stands on a deck.
     pub deck_height: f32,
-    /// The quality preset the app starts with (the controller button cycles from it).
-    pub preset: QualityPreset,
+    /// The quality preset the app starts with (the controller button cycles from it; `None`:
+    /// the headset's default, see [`OpenXr::preset`]).
+    pub preset: Option<QualityPreset>,
 }
 
 impl Default for OpenXrOptions {
@@ -66,7 +67,7 @@ impl Default for OpenXrOptions {
             max_refresh_rate: None,
             perf_levels: (PerfLevel::SustainedHigh, PerfLevel::SustainedHigh),
             deck_height: 2.9,
-            preset: QualityPreset::Medium,
+            preset: None,
         }
     }
 }
@@ -74,6 +75,21 @@ impl Default for OpenXrOptions {
 /// Set (e.g. from a signal handler) to ask for a clean end of the session: the backend calls
 /// `xrRequestExitSession` and leaves after STOPPING and EXITING.
 pub static EXIT_SIGNAL: AtomicBool = AtomicBool::new(false);
+
+/// How long the desktop's [`FrameLoop::begin_frame`] sleeps between polls while the session
+/// is not running.
+pub const IDLE_POLL: Duration = Duration::from_millis(10);
+
+/// What [`OpenXr::poll_frame`] found.
+#[derive(Clone, Copy, Debug)]
+pub enum FramePoll {
+    /// The next frame, begun: render it (when it should) and end it.
+    Frame(FrameState),
+    /// The session is not running (waiting for READY, or stopped): nothing to render yet.
+    Idle,
+    /// The session is over (the runtime went through EXITING).
+    Done,
+}
 
 /// Standing eye height assumed when the runtime offers only LOCAL space (m above its floor).
 const LOCAL_EYE_HEIGHT: f32 = 1.6;
@@ -322,7 +338,7 @@ impl OpenXr {
             extent,
             locomotion: Locomotion::new(Vec3::ZERO, LocomotionSettings::default()),
             headset,
-            preset: options.preset,
+            preset: options.preset.unwrap_or(defaults.preset),
             refresh: None,
             options,
             index: 0,
@@ -541,6 +557,12 @@ impl OpenXr {
         self.headset
     }
 
+    /// The quality preset selected now: the option or the headset's default, then whatever
+    /// the controller's preset button chose. The app starts its LOD with it.
+    pub fn preset(&self) -> QualityPreset {
+        self.preset
+    }
+
     /// The refresh rate cap in use: the option, or the headset's default.
     fn max_refresh_rate(&self) -> f32 {
         self.options
@@ -553,6 +575,11 @@ impl OpenXr {
         self.options
             .foveation
             .unwrap_or(self.headset.defaults().foveation)
+    }
+
+    /// Whether the session runs (between `xrBeginSession` and `xrEndSession`): frames come.
+    pub fn session_running(&self) -> bool {
+        self.lifecycle.running()
     }
 
     /// The session summary so far.
@@ -746,6 +773,123 @@ impl OpenXr {
         }
         Ok(())
     }
+
+    /// One step of [`FrameLoop::begin_frame`] that never waits for the session to run: polls
+    /// the runtime's events, and while the session runs waits for, begins and returns the next
+    /// frame. [`FramePoll::Idle`] when the session is not running (call again later: the
+    /// desktop sleeps [`IDLE_POLL`], Android waits for its activity events instead);
+    /// [`FramePoll::Done`] once the session is over.
+    pub fn poll_frame(&mut self) -> Result<FramePoll, XrError> {
+        loop {
+            self.poll_events()?;
+            if EXIT_SIGNAL.swap(false, Ordering::Relaxed) {
+                log::info!("exit requested by signal");
+                self.request_exit();
+            }
+            if let Some(reason) = self.summary.exit {
+                log::info!("leaving: {reason:?}");
+                return if reason.is_clean() {
+                    Ok(FramePoll::Done)
+                } else {
+                    Err(backend(match reason {
+                        ExitReason::SessionLost => {
+                            "the OpenXR session was lost (LOSS_PENDING): the headset was \
+                             disconnected or the runtime stopped it"
+                        }
+                        _ => "the OpenXR runtime went away (instance loss pending)",
+                    }))
+                };
+            }
+            if self.lifecycle.needs_exit_request() && !self.exit_sent {
+                self.exit_sent = true;
+                log::info!("requesting exit");
+                if let Err(e) = self.parts().session.request_exit() {
+                    log::warn!("xrRequestExitSession: {e:?} ({e})");
+                }
+            }
+            if !self.lifecycle.running() {
+                return Ok(FramePoll::Idle);
+            }
+            let state = match self.parts_mut().waiter.wait() {
+                Ok(s) => s,
+                // STOPPING raced the wait: handle the events first.
+                Err(xr::sys::Result::ERROR_SESSION_NOT_RUNNING) => continue,
+                Err(e) => return Err(call_failed("xrWaitFrame", e)),
+            };
+            let now = Instant::now();
+            if let Some(last) = self.last_wait {
+                if self.waits_ms.len() < WAIT_SAMPLES {
+                    self.waits_ms
+                        .push(now.duration_since(last).as_secs_f64() * 1e3);
+                }
+            }
+            self.last_wait = Some(now);
+            self.summary.frames_waited += 1;
+            self.parts_mut()
+                .stream
+                .begin()
+                .map_err(|e| call_failed("xrBeginFrame", e))?;
+            let time = state.predicted_display_time;
+            let first = *self.first_time.get_or_insert(time);
+            if let Some(last) = self.last_time {
+                let d = (time.as_nanos() - last.as_nanos()) as f64 * 1e-9;
+                if d > 0.0 {
+                    self.period_sum += d;
+                    self.period_count += 1;
+                }
+            }
+            self.last_time = Some(time);
+            let period = (state.predicted_display_period.as_nanos() as f64 * 1e-9).max(1e-4);
+            let located = if state.should_render {
+                self.locate_views(time)?
+            } else {
+                None
+            };
+            let mut tweaks = [None; MAX_TWEAKS];
+            self.handle_input(located.as_ref(), period as f32, &mut tweaks)?;
+            let blank_view = xr::View {
+                pose: xr::Posef::IDENTITY,
+                fov: xr::Fovf {
+                    angle_left: -0.7,
+                    angle_right: 0.7,
+                    angle_up: 0.7,
+                    angle_down: -0.7,
+                },
+            };
+            let raw_views = located.unwrap_or([blank_view; 2]);
+            let views = raw_views.map(|v| {
+                let (position, orientation) = self
+                    .locomotion
+                    .to_world(vec3(v.pose.position), quat(v.pose.orientation));
+                EyeView {
+                    position,
+                    orientation,
+                    fov: fov(v.fov),
+                }
+            });
+            let should_render = located.is_some();
+            if !should_render {
+                self.summary.frames_not_rendered += 1;
+            }
+            self.pending = Some(Pending {
+                time,
+                views: raw_views,
+                acquired: false,
+                released: false,
+            });
+            self.frame_started = Some(Instant::now());
+            let frame = FrameState {
+                index: self.index,
+                predicted_display_time: (time.as_nanos() - first.as_nanos()) as f64 * 1e-9,
+                period,
+                views,
+                should_render,
+                tweaks,
+            };
+            self.index += 1;
+            return Ok(FramePoll::Frame(frame));
+        }
+    }
 }
 
 /// The quality preset after `p`, wrapping around.
@@ -893,115 +1037,12 @@ impl FrameLoop for OpenXr {
 
     fn begin_frame(&mut self) -> Result<Option<FrameState>, XrError> {
         loop {
-            self.poll_events()?;
-            if EXIT_SIGNAL.swap(false, Ordering::Relaxed) {
-                log::info!("exit requested by signal");
-                self.request_exit();
-            }
-            if let Some(reason) = self.summary.exit {
-                log::info!("leaving: {reason:?}");
-                return if reason.is_clean() {
-                    Ok(None)
-                } else {
-                    Err(backend(match reason {
-                        ExitReason::SessionLost => {
-                            "the OpenXR session was lost (LOSS_PENDING): the headset was \
-                             disconnected or the runtime stopped it"
-                        }
-                        _ => "the OpenXR runtime went away (instance loss pending)",
-                    }))
-                };
-            }
-            if self.lifecycle.needs_exit_request() && !self.exit_sent {
-                self.exit_sent = true;
-                log::info!("requesting exit");
-                if let Err(e) = self.parts().session.request_exit() {
-                    log::warn!("xrRequestExitSession: {e:?} ({e})");
-                }
-            }
-            if !self.lifecycle.running() {
+            match self.poll_frame()? {
+                FramePoll::Frame(frame) => return Ok(Some(frame)),
+                FramePoll::Done => return Ok(None),
                 // IDLE/READY transitions come through events; do not spin.
-                std::thread::sleep(Duration::from_millis(10));
-                continue;
+                FramePoll::Idle => std::thread::sleep(IDLE_POLL),
             }
-            let state = match self.parts_mut().waiter.wait() {
-                Ok(s) => s,
-                // STOPPING raced the wait: handle the events first.
-                Err(xr::sys::Result::ERROR_SESSION_NOT_RUNNING) => continue,
-                Err(e) => return Err(call_failed("xrWaitFrame", e)),
-            };
-            let now = Instant::now();
-            if let Some(last) = self.last_wait {
-                if self.waits_ms.len() < WAIT_SAMPLES {
-                    self.waits_ms
-                        .push(now.duration_since(last).as_secs_f64() * 1e3);
-                }
-            }
-            self.last_wait = Some(now);
-            self.summary.frames_waited += 1;
-            self.parts_mut()
-                .stream
-                .begin()
-                .map_err(|e| call_failed("xrBeginFrame", e))?;
-            let time = state.predicted_display_time;
-            let first = *self.first_time.get_or_insert(time);
-            if let Some(last) = self.last_time {
-                let d = (time.as_nanos() - last.as_nanos()) as f64 * 1e-9;
-                if d > 0.0 {
-                    self.period_sum += d;
-                    self.period_count += 1;
-                }
-            }
-            self.last_time = Some(time);
-            let period = (state.predicted_display_period.as_nanos() as f64 * 1e-9).max(1e-4);
-            let located = if state.should_render {
-                self.locate_views(time)?
-            } else {
-                None
-            };
-            let mut tweaks = [None; MAX_TWEAKS];
-            self.handle_input(located.as_ref(), period as f32, &mut tweaks)?;
-            let blank_view = xr::View {
-                pose: xr::Posef::IDENTITY,
-                fov: xr::Fovf {
-                    angle_left: -0.7,
-                    angle_right: 0.7,
-                    angle_up: 0.7,
-                    angle_down: -0.7,
-                },
-            };
-            let raw_views = located.unwrap_or([blank_view; 2]);
-            let views = raw_views.map(|v| {
-                let (position, orientation) = self
-                    .locomotion
-                    .to_world(vec3(v.pose.position), quat(v.pose.orientation));
-                EyeView {
-                    position,
-                    orientation,
-                    fov: fov(v.fov),
-                }
-            });
-            let should_render = located.is_some();
-            if !should_render {
-                self.summary.frames_not_rendered += 1;
-            }
-            self.pending = Some(Pending {
-                time,
-                views: raw_views,
-                acquired: false,
-                released: false,
-            });
-            self.frame_started = Some(Instant::now());
-            let frame = FrameState {
-                index: self.index,
-                predicted_display_time: (time.as_nanos() - first.as_nanos()) as f64 * 1e-9,
-                period,
-                views,
-                should_render,
-                tweaks,
-            };
-            self.index += 1;
-            return Ok(Some(frame));
         }
     }
 

@@ -1,0 +1,87 @@
+//! What the APK starts with. A Quest app has no command line: the headset's defaults
+//! (`xr::openxr::quest::Headset::defaults`: preset, grid, refresh cap, foveation, chosen from the
+//! runtime's system name), no validation layer (the APK ships none), cascades over a 2048 m
+//! ocean, and as many simulation workers as the performance cores allow (`sim::workers`).
+
+use crate::app::RunOptions;
+use crate::lod::{LodSettings, OceanSize, QualityPreset};
+use crate::render::{RendererSettings, Validation};
+use crate::sim::workers::recommended_workers;
+use crate::sim::{OceanConfig, ParamError};
+use crate::xr::openxr::quest::DeviceDefaults;
+use crate::xr::openxr::OpenXrOptions;
+
+/// Ocean size S (m) the quadtree covers on Quest.
+pub const QUEST_OCEAN_SIZE: f32 = 2048.0;
+
+/// Cores assumed when the device does not say how many it has.
+pub const FALLBACK_CORES: usize = 3;
+
+/// Frames at the start left out of the timing statistics.
+pub const WARMUP_FRAMES: u64 = 10;
+
+/// The OpenXR backend's settings on Quest: validation off, everything else the headset's
+/// defaults (resolved once the runtime names the headset).
+pub fn xr_options() -> OpenXrOptions {
+    OpenXrOptions {
+        validation: Validation::Off,
+        ..OpenXrOptions::default()
+    }
+}
+
+/// The frame loop's settings for a headset with `defaults`, starting at `preset`; `max_khz`
+/// are the cores' maximum clocks (`sim::workers::core_max_khz`) and `cores` what
+/// `std::thread::available_parallelism` reported (`None` when it could not tell).
+pub fn run_options(
+    defaults: &DeviceDefaults,
+    preset: QualityPreset,
+    max_khz: &[u64],
+    cores: Option<usize>,
+) -> Result<RunOptions, ParamError> {
+    let threads = recommended_workers(
+        max_khz,
+        cores.unwrap_or(FALLBACK_CORES),
+        defaults.workers_cap,
+    );
+    Ok(RunOptions {
+        ocean: OceanConfig::default_cascades(defaults.grid as u32)?,
+        threads,
+        lod: LodSettings::new(preset, OceanSize::new(QUEST_OCEAN_SIZE)?),
+        renderer: RendererSettings::default(),
+        capture: Vec::new(),
+        warmup: WARMUP_FRAMES,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::xr::openxr::quest::Headset;
+
+    #[test]
+    fn quest_options_are_valid_and_follow_the_headset() {
+        let xr = xr_options();
+        assert_eq!(xr.validation, Validation::Off);
+        assert_eq!(xr.frames, None, "the headset app runs until the user quits");
+        assert_eq!(xr.preset, None, "the headset's default");
+        // Quest 2: XR2 Gen 1 clusters, 8 cores.
+        let gen1 = [
+            1_804_800, 1_804_800, 1_804_800, 1_804_800, 2_419_200, 2_419_200, 2_419_200, 2_841_600,
+        ];
+        let d = Headset::Quest2.defaults();
+        let run = run_options(&d, d.preset, &gen1, Some(8)).unwrap();
+        run.ocean.validate().unwrap();
+        assert_eq!(run.threads, 3);
+        assert_eq!(run.lod.preset(), QualityPreset::Medium);
+        assert!(run.capture.is_empty());
+        // No cpufreq data: the reported core count minus the render thread.
+        let run = run_options(&d, d.preset, &[], Some(2)).unwrap();
+        assert_eq!(run.threads, 1);
+        let run = run_options(&d, d.preset, &[], None).unwrap();
+        assert_eq!(run.threads, FALLBACK_CORES - 1);
+        // Quest 3 starts at High.
+        let d3 = Headset::Quest3.defaults();
+        let run = run_options(&d3, d3.preset, &gen1, Some(8)).unwrap();
+        assert_eq!(run.lod.preset(), QualityPreset::High);
+    }
+}
