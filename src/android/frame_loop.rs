@@ -102,4 +102,8 @@ impl FrameLoop for ActivityFrameLoop {
     fn show_stats(&mut self, text: &str) {
         self.xr.show_stats(text);
     }
+
+    fn report_gpu_time(&mut self, gpu: std::time::Duration) {
+        self.xr.report_gpu_time(gpu);
+    }
 }

@@ -251,6 +251,9 @@ fn frames(
         hooks.frame_done(&frame);
         count += 1;
         if let Some(r) = report {
+            if let Some(g) = r.gpu_pass {
+                xr.report_gpu_time(g);
+            }
             max_draws = max_draws.max(r.draws);
             if frame.index >= opts.warmup {
                 times.push(Timing::FrameTotal, start.elapsed());

@@ -100,4 +100,8 @@ pub trait FrameLoop {
     /// Shows a one-line statistics summary (the window's title); called about twice a second.
     /// Backends without a place for it ignore it.
     fn show_stats(&mut self, _text: &str) {}
+
+    /// The GPU time of a recent frame's pass (from timestamps, a frame or two late). Backends
+    /// that adapt to the frame cost (the OpenXR refresh-rate governor) use it; others ignore it.
+    fn report_gpu_time(&mut self, _gpu: std::time::Duration) {}
 }

@@ -197,6 +197,7 @@ pub struct OpenXr {
     last_time: Option<xr::Time>,
     last_wait: Option<Instant>,
     frame_started: Option<Instant>,
+    last_gpu: Option<Duration>,
     waits_ms: Vec<f64>,
     period_sum: f64,
     period_count: u64,
@@ -346,6 +347,7 @@ impl OpenXr {
             last_time: None,
             last_wait: None,
             frame_started: None,
+            last_gpu: None,
             waits_ms: Vec::with_capacity(WAIT_SAMPLES),
             period_sum: 0.0,
             period_count: 0,
@@ -1087,7 +1089,11 @@ impl FrameLoop for OpenXr {
             return Err(backend("end_frame without begin_frame"));
         };
         if let (Some(started), Some(g)) = (self.frame_started.take(), self.refresh.as_mut()) {
-            if let Some(rate) = g.observe(started.elapsed().as_secs_f64()) {
+            // The frame costs what the slower side costs: the app's CPU work since
+            // xrWaitFrame returned, or the GPU pass (Quest apps are usually GPU-bound).
+            let cpu = started.elapsed().as_secs_f64();
+            let gpu = self.last_gpu.map_or(0.0, |d| d.as_secs_f64());
+            if let Some(rate) = g.observe(cpu.max(gpu)) {
                 log::warn!("frames do not fit the budget: asking for {rate} Hz");
                 self.summary.refresh_rate = Some(rate);
                 if let Err(e) = self.parts().session.request_display_refresh_rate(rate) {
@@ -1172,6 +1178,10 @@ impl FrameLoop for OpenXr {
 
     fn show_stats(&mut self, text: &str) {
         log::debug!("{text}");
+    }
+
+    fn report_gpu_time(&mut self, gpu: Duration) {
+        self.last_gpu = Some(gpu);
     }
 }
 

@@ -162,8 +162,9 @@ pub struct DeviceDefaults {
 
 /// Picks the display refresh rate and steps it down when frames do not fit its budget.
 ///
-/// It starts at the highest offered rate at or under the cap. A frame "misses" when the app's
-/// CPU time for it exceeds [`RefreshGovernor::BUDGET_SHARE`] of the period; when more than a
+/// It starts at the highest offered rate at or under the cap. A frame "misses" when its cost
+/// (the larger of the app's CPU time after `xrWaitFrame` and the GPU pass) exceeds
+/// [`RefreshGovernor::BUDGET_SHARE`] of the period; when more than a
 /// tenth of the frames of a 2-second window miss, the next lower rate is asked for. It never
 /// steps back up on its own: a rate that did not hold is not retried in the same session.
 #[derive(Clone, Debug)]
@@ -201,7 +202,7 @@ impl RefreshGovernor {
         self.rates[self.current]
     }
 
-    /// One frame's CPU cost (s). Returns the new rate when it should change.
+    /// One frame's cost (s). Returns the new rate when it should change.
     pub fn observe(&mut self, cost: f64) -> Option<f32> {
         let period = 1.0 / self.rate() as f64;
         self.window += 1;
