@@ -82,9 +82,11 @@ impl VulkanFactory for DirectVulkan {
         entry: &ash::Entry,
         info: &vk::InstanceCreateInfo<'_>,
     ) -> Result<vk::Instance, RenderError> {
-        // SAFETY: every pointer in `info` outlives the call (the caller's contract).
-        unsafe { entry.create_instance(info, None) }
-            .map(|i| i.handle())
+        // Only the handle: the context loads the instance's function table once, for both
+        // factories. SAFETY: every pointer in `info` outlives the call (the caller's contract).
+        let mut raw = vk::Instance::null();
+        unsafe { (entry.fp_v1_0().create_instance)(info, std::ptr::null(), &mut raw) }
+            .result_with_success(raw)
             .map_err(|e| match e {
                 vk::Result::ERROR_INCOMPATIBLE_DRIVER => RenderError::NoDevice(e.to_string()),
                 e => RenderError::Vk {
@@ -107,9 +109,11 @@ impl VulkanFactory for DirectVulkan {
         physical: vk::PhysicalDevice,
         info: &vk::DeviceCreateInfo<'_>,
     ) -> Result<vk::Device, RenderError> {
-        // SAFETY: `physical` came from `instance`; `info`'s pointers outlive the call.
-        unsafe { instance.create_device(physical, info, None) }
-            .map(|d| d.handle())
+        // Only the handle, as for the instance. SAFETY: `physical` came from `instance`;
+        // `info`'s pointers outlive the call.
+        let mut raw = vk::Device::null();
+        unsafe { (instance.fp_v1_0().create_device)(physical, info, std::ptr::null(), &mut raw) }
+            .result_with_success(raw)
             .map_err(RenderError::vk("vkCreateDevice"))
     }
 }

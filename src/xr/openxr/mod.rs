@@ -453,8 +453,7 @@ impl OpenXr {
         let input = Input::new(&self.instance).map_err(backend)?;
         input.attach(&session).map_err(backend)?;
 
-        if let Some(ext) = exts.fb_display_refresh_rate.as_ref() {
-            let _ = ext;
+        if exts.fb_display_refresh_rate.is_some() {
             match session.enumerate_display_refresh_rates() {
                 Ok(rates) => {
                     self.refresh = RefreshGovernor::new(&rates, self.max_refresh_rate());

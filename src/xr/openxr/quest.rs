@@ -78,8 +78,8 @@ impl Headset {
         let n: String = name
             .chars()
             .filter(|c| !c.is_whitespace())
-            .collect::<String>()
-            .to_ascii_lowercase();
+            .map(|c| c.to_ascii_lowercase())
+            .collect();
         if n.contains("quest3s") {
             Headset::Quest3S
         } else if n.contains("quest3") {

@@ -17,7 +17,8 @@ pub struct RuntimeVulkan<'a> {
     pub instance: &'a xr::Instance,
     /// The HMD system.
     pub system: xr::SystemId,
-    get_instance_proc_addr: Cell<Option<vk::PFN_vkGetInstanceProcAddr>>,
+    /// The loader's `vkGetInstanceProcAddr`, as OpenXR spells its type (set with the instance).
+    get_instance_proc_addr: Cell<Option<xr::sys::platform::VkGetInstanceProcAddr>>,
 }
 
 impl<'a> RuntimeVulkan<'a> {
@@ -41,18 +42,21 @@ impl VulkanFactory for RuntimeVulkan<'_> {
         entry: &ash::Entry,
         info: &vk::InstanceCreateInfo<'_>,
     ) -> Result<vk::Instance, RenderError> {
-        let gipa = entry.static_fn().get_instance_proc_addr;
+        // SAFETY: the two function pointer types differ only in how the handle types are
+        // spelled.
+        let gipa = unsafe {
+            std::mem::transmute::<
+                vk::PFN_vkGetInstanceProcAddr,
+                xr::sys::platform::VkGetInstanceProcAddr,
+            >(entry.static_fn().get_instance_proc_addr)
+        };
         self.get_instance_proc_addr.set(Some(gipa));
         // SAFETY: `info` is a valid create info whose pointers outlive the call; the runtime
-        // calls `gipa` (the loader's) to reach Vulkan. The function pointer types differ only
-        // in how the handle types are spelled.
+        // calls `gipa` (the loader's) to reach Vulkan.
         let raw = unsafe {
             self.instance.create_vulkan_instance(
                 self.system,
-                std::mem::transmute::<
-                    vk::PFN_vkGetInstanceProcAddr,
-                    xr::sys::platform::VkGetInstanceProcAddr,
-                >(gipa),
+                gipa,
                 info as *const vk::InstanceCreateInfo<'_> as *const _,
             )
         }
@@ -91,10 +95,7 @@ impl VulkanFactory for RuntimeVulkan<'_> {
         let raw = unsafe {
             self.instance.create_vulkan_device(
                 self.system,
-                std::mem::transmute::<
-                    vk::PFN_vkGetInstanceProcAddr,
-                    xr::sys::platform::VkGetInstanceProcAddr,
-                >(gipa),
+                gipa,
                 physical.as_raw() as _,
                 info as *const vk::DeviceCreateInfo<'_> as *const _,
             )
