@@ -99,6 +99,21 @@ fn single_mode(
 
 /// Height field of a packed spectrum at time t, through the real evolve → FFT → surface path.
 fn heights(spec: &PackedSpectrum, patch: f32, t: f64, period: f32) -> Vec<f32> {
+    surface_of(spec, patch, t, period, 0.0)
+        .displacement
+        .iter()
+        .map(|d| d[1])
+        .collect()
+}
+
+/// The whole surface (with f32 copies) of a packed spectrum at time t and choppiness λ.
+fn surface_of(
+    spec: &PackedSpectrum,
+    patch: f32,
+    t: f64,
+    period: f32,
+    choppiness: f32,
+) -> CascadeSurface {
     let grid = spec.grid;
     let fft = Fft2d::new(grid);
     let mut fields: [SplitField; 4] = std::array::from_fn(|_| SplitField::zeros(grid));
@@ -108,13 +123,131 @@ fn heights(spec: &PackedSpectrum, patch: f32, t: f64, period: f32) -> Vec<f32> {
     let mut out = CascadeSurface::new(grid, patch, FloatCopies::Keep);
     let mut foam = AlignedBuf::zeros(grid.texels());
     let p = SurfaceParams {
-        choppiness: 0.0,
+        choppiness,
         roughness: 0.0,
         foam: FoamParams::default(),
         dt: 0.0,
     };
     surface::finalize(&fields, &mut foam, p, t, &mut out);
-    out.displacement.iter().map(|d| d[1]).collect()
+    out
+}
+
+#[test]
+fn a_long_crested_choppy_wave_is_a_trochoid_with_narrow_crests() {
+    // One mode along +x: h = a·cos(k·x − ωt). Choppy waves move points toward the crest
+    // (Gerstner): x' = x − λ·a·sin(k·x − ωt), so crests are narrower than troughs.
+    let grid = GridSize::new(64).unwrap();
+    let (n, patch, period, lambda) = (64usize, 100.0f32, 200.0f32, 1.0f32);
+    let (col, row) = (n / 2 + 2, n / 2);
+    let (kx, _) = spectrum::wave_vector(col, row, grid, patch);
+    let k = kx.abs();
+    // Steepness a·k = 0.4: clearly choppy, not folded.
+    let a = 0.4 / k as f32;
+    let harmonic = dispersion::loop_harmonic(dispersion::omega(k, None), period);
+    let spec = single_mode(grid, col, row, a / 2.0, harmonic);
+    let s = surface_of(&spec, patch, 7.3, period, lambda);
+    let d = s.displacement.clone();
+    let texel = patch / n as f32;
+    // Every row is the same profile; check it is the trochoid x' = x − λ·(∂/∂(kx))h, i.e.
+    // Dx = −λ·a·sin θ where h = a·cos θ.
+    let first = &d[..n];
+    let (mut sum_sq_err, mut sum_sq) = (0.0f64, 0.0f64);
+    for (c, t) in first.iter().enumerate() {
+        // θ from the height and the sign of the slope: h = a cos θ, ∂h/∂x = −a·k·sin θ, so
+        // the trochoid's Dx = λ·(∂h/∂x)/k.
+        let next = first[(c + 1) % n][1];
+        let prev = first[(c + n - 1) % n][1];
+        let slope = (next - prev) / (2.0 * texel);
+        // Central differences of a sampled cosine shrink the slope by sin(kΔ)/(kΔ).
+        let kd = k as f32 * texel;
+        let expect_dx = lambda * slope / k as f32 * kd / kd.sin();
+        sum_sq_err += ((t[0] - expect_dx) as f64).powi(2);
+        sum_sq += (expect_dx as f64).powi(2);
+        assert!(t[2].abs() < 1e-4 * a, "no displacement across the crests");
+    }
+    let rel = (sum_sq_err / sum_sq).sqrt();
+    assert!(
+        rel < 1e-3,
+        "Dx is not the trochoid's −λ·a·sin θ: relative error {rel}"
+    );
+    // Widths of crest (h > 0) and trough (h < 0) in displaced coordinates, from the zero
+    // crossings of h interpolated along the displaced x.
+    let xs: Vec<f32> = first
+        .iter()
+        .enumerate()
+        .map(|(c, t)| c as f32 * texel + t[0])
+        .collect();
+    let mut crossings = Vec::new();
+    for c in 0..n {
+        let (h0, h1) = (first[c][1], first[(c + 1) % n][1]);
+        if (h0 > 0.0) != (h1 > 0.0) {
+            let x1 = if c + 1 == n { xs[0] + patch } else { xs[c + 1] };
+            let x = xs[c] + (x1 - xs[c]) * h0 / (h0 - h1);
+            crossings.push((x, h0 > 0.0));
+        }
+    }
+    assert_eq!(crossings.len(), 4, "two wavelengths in the patch");
+    let (mut crest, mut trough) = (0.0f32, 0.0f32);
+    for i in 0..4 {
+        let (x0, leaving_crest) = crossings[i];
+        let x1 = crossings[(i + 1) % 4].0 + if i == 3 { patch } else { 0.0 };
+        if leaving_crest {
+            trough += x1 - x0;
+        } else {
+            crest += x1 - x0;
+        }
+    }
+    // Trochoid: crest = L/2 − 2λa, trough = L/2 + 2λa per wavelength L (a·k = 0.4, λ = 1:
+    // crest / trough = (π − 0.8) / (π + 0.8) ≈ 0.59).
+    let wavelength = std::f32::consts::TAU / k as f32;
+    let expect_crest = 2.0 * (wavelength / 2.0 - 2.0 * lambda * a);
+    eprintln!("crest {crest} m, trough {trough} m, trochoid crest {expect_crest} m");
+    assert!(
+        crest < 0.7 * trough,
+        "crests ({crest} m) must be narrower than troughs ({trough} m)"
+    );
+    assert!(
+        (crest / expect_crest - 1.0).abs() < 0.01,
+        "crest width {crest} m, trochoid {expect_crest} m"
+    );
+}
+
+#[test]
+fn choppy_displacement_gathers_points_under_the_crests() {
+    // On a random sea the Jacobian is lowest on crests (points converge there, whitecaps on
+    // top) and highest in troughs: h and J are negatively correlated.
+    let mut cfg = OceanConfig::single(256, 200.0).unwrap();
+    cfg.waves.wind_speed = 12.0;
+    cfg.waves.choppiness = 1.0;
+    let mut core = SimCore::new(cfg.clone()).unwrap();
+    let s = step(&mut core, &cfg, 30.0);
+    let d = &s.cascades[0].displacement;
+    let n = d.len() as f64;
+    let mean = |f: &dyn Fn(&[f32; 4]) -> f64| d.iter().map(f).sum::<f64>() / n;
+    let (mh, mj) = (mean(&|t| t[1] as f64), mean(&|t| t[3] as f64));
+    let cov = mean(&|t| (t[1] as f64 - mh) * (t[3] as f64 - mj));
+    let vh = mean(&|t| (t[1] as f64 - mh).powi(2));
+    let vj = mean(&|t| (t[3] as f64 - mj).powi(2));
+    let corr = cov / (vh * vj).sqrt();
+    let mut by_height: Vec<&[f32; 4]> = d.iter().collect();
+    by_height.sort_by(|a, b| a[1].total_cmp(&b[1]));
+    let one_percent = by_height.len() / 100;
+    let mean_j = |v: &[&[f32; 4]]| v.iter().map(|t| t[3] as f64).sum::<f64>() / v.len() as f64;
+    let (j_troughs, j_crests) = (
+        mean_j(&by_height[..one_percent]),
+        mean_j(&by_height[by_height.len() - one_percent..]),
+    );
+    eprintln!(
+        "corr(h, J) = {corr:.3}, mean J: highest 1 % {j_crests:.3}, lowest 1 % {j_troughs:.3}"
+    );
+    assert!(
+        corr < -0.3,
+        "corr(h, J) = {corr:.3}: crests must be compressed"
+    );
+    assert!(
+        j_crests < 1.0 && j_troughs > 1.0,
+        "mean J over the highest 1 %: {j_crests:.3} (< 1), lowest 1 %: {j_troughs:.3} (> 1)"
+    );
 }
 
 #[test]

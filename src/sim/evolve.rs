@@ -11,7 +11,11 @@
 //! | 3     | ∂Z/∂z ← −k_z·u_z·h̃   | ∂X/∂z ← −k_z·uₓ·h̃          |
 //!
 //! Each field's spectrum is Hermitian, so packing A + i·B into one transform yields A and B as
-//! the real and imaginary outputs. The horizontal displacement is D = −λ·(X, Z) (eq. 44).
+//! the real and imaginary outputs. The horizontal displacement is D = +λ·(X, Z): for a wave
+//! h = a·cos θ, X = −a·uₓ·sin θ, so points move toward the crest (x' = x − λ·a·sin θ, the
+//! Gerstner trochoid: sharp crests, flat troughs, J < 1 on crests). The thesis's eq. 25 and 44
+//! each carry a minus sign; applied together with this table's X they would pull points away
+//! from crests, which folds the sea in its troughs.
 
 use rayon::prelude::*;
 

@@ -189,7 +189,9 @@ fn surface_row_kernel<const KEEP: bool>(
             -row.row_sign
         };
         let h = f0r[col] * s;
-        let ls = -k.lambda * s;
+        // D = +λ·(X, Z) with X = Σ i·u·h̃·e^{ik·x} (see `evolve`): for h = a·cos θ this is
+        // Dx = −λ·a·sin θ, the trochoid that gathers points under the crests (Gerstner).
+        let ls = k.lambda * s;
         let dx = ls * f0i[col];
         let dz = ls * f1r[col];
         let hx = f1i[col] * s;
