@@ -4,9 +4,9 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::Vec3;
 
+use vr_ocean::base::Fov;
 use vr_ocean::lod::{
-    Fov, FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset,
-    StereoFrustum,
+    FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset, StereoFrustum,
 };
 
 fn frame(c: &mut Criterion) {

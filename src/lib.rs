@@ -8,6 +8,7 @@
 
 pub mod android;
 pub mod app;
+pub mod base;
 pub mod bench;
 pub mod export;
 pub mod lod;

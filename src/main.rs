@@ -9,16 +9,17 @@ use std::time::Instant;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use vr_ocean::app::{self, FrameTimes, RunOptions};
+use vr_ocean::base::ParamError;
 use vr_ocean::bench::{self, BenchOptions};
 use vr_ocean::export;
 use vr_ocean::lod::{LodSettings, OceanSize, QualityPreset};
 use vr_ocean::render::{ContextOptions, RendererSettings, StereoMode, Validation};
 use vr_ocean::sim::{
-    FoamParams, GridSize, OceanConfig, ParamError, SimCore, SimError, Simulation, SpectrumKind,
-    Surfaces, WaveParams,
+    FoamParams, GridSize, OceanConfig, SimCore, SimError, Simulation, SpectrumKind, Surfaces,
+    WaveParams,
 };
-use vr_ocean::xr::mock::window::{OpenError, WindowOptions, WindowSize, WindowXr, KEYS_HELP};
-use vr_ocean::xr::mock::{self, CameraPath, EyeSize, HeadlessXr};
+use vr_ocean::xr::desktop::window::{OpenError, WindowOptions, WindowSize, WindowXr, KEYS_HELP};
+use vr_ocean::xr::desktop::{self, CameraPath, EyeSize, HeadlessXr};
 use vr_ocean::xr::openxr::quest::{Foveation, PerfLevel};
 use vr_ocean::xr::openxr::{OpenXr, OpenXrOptions};
 use vr_ocean::xr::FrameLoop;
@@ -307,7 +308,7 @@ struct HeadlessArgs {
     /// Per-eye image size WIDTHxHEIGHT.
     #[arg(long, allow_hyphen_values = true, default_value = "640x640")]
     size: String,
-    /// Camera path file (format in `src/xr/mock/path.rs` and the README); default: standing
+    /// Camera path file (format in `src/xr/desktop/path.rs` and the README); default: standing
     /// on a deck 4.5 m above the mean sea level, looking slightly down at the horizon.
     #[arg(long)]
     path: Option<PathBuf>,
@@ -453,7 +454,7 @@ fn headless_cmd(a: HeadlessArgs) -> CmdResult {
     }
     let path = match &a.path {
         Some(p) => CameraPath::load(p)?,
-        None => CameraPath::still(mock::START_POSITION, 0.0, mock::START_PITCH),
+        None => CameraPath::still(desktop::START_POSITION, 0.0, desktop::START_PITCH),
     };
     let capture = if a.capture.is_empty() {
         vec![a.frames - 1]
@@ -817,7 +818,7 @@ fn bench_cmd(a: BenchArgs) -> CmdResult {
 
 fn lod_svg_cmd(a: LodSvgArgs) -> CmdResult {
     use vr_ocean::lod::{
-        svg, Fov, FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset,
+        svg, FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset,
         StereoFrustum,
     };
     let &[x, y, z] = a.camera.as_slice() else {
@@ -854,8 +855,13 @@ fn lod_svg_cmd(a: LodSvgArgs) -> CmdResult {
     let settings = LodSettings::new(preset, OceanSize::new(a.size)?);
     // A Quest-like headset: 64 mm between the eyes, asymmetric per-eye FOVs.
     let (yaw, pitch) = (a.yaw.to_radians(), a.pitch.to_radians());
-    let eyes =
-        StereoFrustum::from_head(glam::Vec3::new(x, y, z), yaw, pitch, 0.064, Fov::QUEST_EYES)?;
+    let eyes = StereoFrustum::from_head(
+        glam::Vec3::new(x, y, z),
+        yaw,
+        pitch,
+        0.064,
+        vr_ocean::base::Fov::QUEST_EYES,
+    )?;
     let mut lod = OceanLod::new(settings);
     let stats = lod.update(&FrameInput {
         viewer: eyes.centre(),

@@ -20,7 +20,7 @@ use vr_ocean::app::{FrameTimes, NoHooks, RunReport, Timing};
 use vr_ocean::lod::{LodSettings, OceanSize, QualityPreset};
 use vr_ocean::render::StereoMode;
 use vr_ocean::sim::OceanConfig;
-use vr_ocean::xr::mock::CameraPath;
+use vr_ocean::xr::desktop::CameraPath;
 
 struct Scenario {
     name: &'static str,

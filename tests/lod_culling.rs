@@ -8,9 +8,8 @@ use common::lod::{culled_frame, quest_eyes, Lcg};
 
 use glam::Vec3;
 
-use vr_ocean::lod::{
-    EyeView, FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset,
-};
+use vr_ocean::base::EyeView;
+use vr_ocean::lod::{FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset};
 
 /// Independent visibility oracle: a point is seen by an eye when, in that eye's view space
 /// (inverse pose), it is in front of the near plane and its tangents x/−z, y/−z lie within the

@@ -6,9 +6,9 @@ mod common;
 
 use glam::Vec3;
 
+use vr_ocean::base::{EyeView, Fov};
 use vr_ocean::lod::{
-    EyeView, Fov, FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset,
-    StereoFrustum,
+    FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset, StereoFrustum,
 };
 
 #[global_allocator]

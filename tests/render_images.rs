@@ -8,7 +8,7 @@ use common::gpu::{self, Frame};
 use glam::Vec3;
 use vr_ocean::render::camera::project_to_pixel;
 use vr_ocean::render::StereoMode;
-use vr_ocean::xr::mock::CameraPath;
+use vr_ocean::xr::desktop::CameraPath;
 
 /// The image row of the horizon for `eye` of `f` (no roll, so one row across the image).
 fn horizon_row(f: &Frame, eye: usize) -> f32 {
@@ -133,7 +133,7 @@ fn eyes_differ_by_the_parallax_their_poses_predict() {
     };
     // Shift of points at infinity: only the two FOVs' asymmetry, no parallax.
     let forward = left.orientation * Vec3::NEG_Z;
-    let inf = |v: &vr_ocean::lod::EyeView| {
+    let inf = |v: &vr_ocean::base::EyeView| {
         project_to_pixel(v, v.position + forward * 1.0e7, f.width, f.height)
             .unwrap()
             .0

@@ -30,7 +30,7 @@ impl RunHooks for CountFrames {
 
 fn steady_state_allocations(stereo: StereoMode) -> usize {
     // A walk with turns, so the LOD tree and the instance count change every frame.
-    let path = vr_ocean::xr::mock::CameraPath::parse(
+    let path = vr_ocean::xr::desktop::CameraPath::parse(
         "0 0 1.7 0 0 -5
          2 30 3 -40 120 -20
          4 -10 1.7 10 250 0",

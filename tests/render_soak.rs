@@ -9,7 +9,7 @@ use vr_ocean::app::RunHooks;
 use vr_ocean::lod::{LodSettings, OceanSize, QualityPreset};
 use vr_ocean::render::StereoMode;
 use vr_ocean::sim::OceanConfig;
-use vr_ocean::xr::mock::CameraPath;
+use vr_ocean::xr::desktop::CameraPath;
 use vr_ocean::xr::FrameState;
 
 /// Resident set size (bytes) from /proc/self/statm.

@@ -12,7 +12,7 @@ use common::{assert_rejected, gpu};
 use vr_ocean::app;
 use vr_ocean::lod::QualityPreset;
 use vr_ocean::render::{GpuContext, StereoMode, TargetImages};
-use vr_ocean::xr::mock::{EyeSize, HeadlessXr};
+use vr_ocean::xr::desktop::{EyeSize, HeadlessXr};
 use vr_ocean::xr::{Acquired, FrameLoop, FrameState, Tweak, XrError, MAX_TWEAKS};
 
 #[test]

@@ -4,10 +4,11 @@
 //! ocean, and as many simulation workers as the performance cores allow (`sim::workers`).
 
 use crate::app::RunOptions;
+use crate::base::ParamError;
 use crate::lod::{LodSettings, OceanSize, QualityPreset};
 use crate::render::{RendererSettings, Validation};
 use crate::sim::workers::recommended_workers;
-use crate::sim::{OceanConfig, ParamError};
+use crate::sim::OceanConfig;
 use crate::xr::openxr::quest::DeviceDefaults;
 use crate::xr::openxr::OpenXrOptions;
 

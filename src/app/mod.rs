@@ -8,12 +8,13 @@ pub mod timing;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use crate::base::ParamError;
 use crate::lod::{
     self, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset, StereoFrustum,
 };
 use crate::render::readback::Readback;
 use crate::render::{self, OceanRenderer, RenderError, RendererSettings};
-use crate::sim::{OceanConfig, ParamError, SimError, Simulation};
+use crate::sim::{OceanConfig, SimError, Simulation};
 use crate::xr::{FrameLoop, FrameState, Tweak, XrError};
 pub use timing::{FrameTimes, Percentiles, Timing};
 

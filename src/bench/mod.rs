@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 use crate::sim::fft::Fft2d;
 use crate::sim::grid::{GridSize, SplitField};
 use crate::sim::params::OceanConfig;
-use crate::sim::pipeline::{SimCore, SimError, Surfaces};
+use crate::sim::step::{SimCore, SimError, Surfaces};
 
 /// What to measure.
 #[derive(Clone, Debug)]

@@ -21,10 +21,10 @@ pub mod svg;
 
 use glam::{Vec2, Vec3};
 
-use crate::sim::ParamError;
+use crate::base::ParamError;
 
 pub use batch::{Batches, DrawBatch, PatchInstance};
-pub use frustum::{EyeView, Fov, Frustum, MaxDisplacement, StereoFrustum};
+pub use frustum::{Frustum, MaxDisplacement, StereoFrustum};
 pub use mesh::PatchMesh;
 pub use preset::{LodSettings, OceanSize, QualityPreset};
 pub use quadtree::{Leaf, Quadtree};

@@ -1,7 +1,7 @@
 //! Quality presets (thesis Table 2) and the ocean size S with its derived quadtree constants
 //! (eq. 56, 62, 69).
 
-use crate::sim::ParamError;
+use crate::base::ParamError;
 
 /// A quality preset of thesis Table 2: patch resolution V, LOD distance scale τ and cull scale β.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

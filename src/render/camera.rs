@@ -3,7 +3,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3, Vec4};
 
-use crate::lod::{EyeView, Fov};
+use crate::base::{EyeView, Fov};
 
 /// Near plane (m), the same the LOD's frusta use.
 pub const NEAR: f32 = crate::lod::frustum::NEAR_PLANE;

@@ -22,7 +22,8 @@ use super::context::GpuContext;
 use super::error::RenderError;
 use super::memory::{create_view, image_barrier, Buffer, Image, ImageDesc};
 use super::pipeline::{Pipelines, Push, StereoMode, DEPTH_FORMAT};
-use crate::lod::{EyeView, LodSettings, OceanLod, PatchInstance, StitchFlags};
+use crate::base::EyeView;
+use crate::lod::{LodSettings, OceanLod, PatchInstance, StitchFlags};
 use crate::sim::{pack, OceanConfig, Surfaces};
 
 /// The most cascades the shaders read (a `vec4` of patch sizes).

@@ -1,6 +1,6 @@
 //! Grid sizes and the aligned planar buffers every stage works on.
 
-use crate::sim::error::ParamError;
+use crate::base::ParamError;
 
 /// Side length N of an N×N simulation grid: always a power of two in
 /// [`GridSize::MIN`, `GridSize::MAX`] (the FFT sizes of thesis eq. 2), so code holding one never

@@ -1,6 +1,6 @@
 //! Ocean parameters in physical units, validated once into types the pipeline trusts.
 
-use crate::sim::error::ParamError;
+use crate::base::ParamError;
 use crate::sim::grid::GridSize;
 
 /// Standard gravity (m/s²).

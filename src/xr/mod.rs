@@ -1,17 +1,18 @@
-//! The XR frame loop: one interface ([`FrameLoop`]) and its backends. The desktop mock
-//! ([`mock`]) owns its own 2-layer "swapchain" and makes head poses from the keyboard and mouse
-//! or a scripted camera path; the OpenXR backend ([`openxr`]) drives the same frame loop from a
+//! The XR frame loop: one interface ([`FrameLoop`]) and its backends. The desktop backends
+//! ([`desktop`]: the window and headless) own their 2-layer "swapchain" and make head poses
+//! from the keyboard and mouse or a scripted camera path; the OpenXR backend ([`openxr`]) drives the same frame loop from a
 //! real runtime, with [`locomotion`] placing the tracked user over the water.
 //!
 //! A frame: [`FrameLoop::begin_frame`] (predicted display time and both eye views),
 //! [`FrameLoop::acquire_image`], the renderer records and submits into that image,
 //! [`FrameLoop::release_image`], [`FrameLoop::end_frame`].
 
+pub mod desktop;
 pub mod locomotion;
-pub mod mock;
 pub mod openxr;
 
-use crate::lod::{EyeView, QualityPreset};
+use crate::base::EyeView;
+use crate::lod::QualityPreset;
 use crate::render::{GpuContext, RenderError, TargetImages};
 
 /// A live change asked for by the user (window keys); the app applies it at the frame start.

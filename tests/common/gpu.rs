@@ -7,7 +7,7 @@ use vr_ocean::app::{self, Capture, RunHooks, RunOptions, RunReport};
 use vr_ocean::lod::{LodSettings, OceanSize, QualityPreset};
 use vr_ocean::render::{ContextOptions, RendererSettings, StereoMode, Validation};
 use vr_ocean::sim::OceanConfig;
-use vr_ocean::xr::mock::{CameraPath, EyeSize, HeadlessXr};
+use vr_ocean::xr::desktop::{CameraPath, EyeSize, HeadlessXr};
 use vr_ocean::xr::FrameState;
 
 /// Both eyes of one captured frame.

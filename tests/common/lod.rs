@@ -3,7 +3,8 @@
 #![allow(dead_code)]
 
 use glam::Vec3;
-use vr_ocean::lod::{Fov, FrameInput, FrameStats, MaxDisplacement, OceanLod, StereoFrustum};
+use vr_ocean::base::Fov;
+use vr_ocean::lod::{FrameInput, FrameStats, MaxDisplacement, OceanLod, StereoFrustum};
 
 /// A small deterministic generator (64-bit LCG), uniform in [0, 1).
 pub struct Lcg(pub u64);

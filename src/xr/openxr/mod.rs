@@ -31,7 +31,8 @@ use self::quest::{Foveation, Headset, PerfLevel, RefreshGovernor};
 use self::swapchain::ArraySwapchain;
 use super::locomotion::{Locomotion, LocomotionSettings};
 use super::{Acquired, FrameLoop, FrameState, Tweak, XrError, MAX_TWEAKS};
-use crate::lod::{EyeView, Fov, QualityPreset};
+use crate::base::{EyeView, Fov};
+use crate::lod::QualityPreset;
 use crate::render::{ContextOptions, GpuContext, TargetImages, Validation};
 
 /// What the OpenXR backend is started with.

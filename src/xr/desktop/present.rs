@@ -1,4 +1,4 @@
-//! Showing the mock's eye images in a window: a `VkSwapchainKHR` on the window's surface (FIFO,
+//! Showing the desktop backend's eye images in a window: a `VkSwapchainKHR` on the window's surface (FIFO,
 //! sRGB when offered) and, per frame, one command buffer that blits layer 0 of the rendered
 //! array image to the left half and layer 1 to the right half of the acquired window image,
 //! keeping the eyes' aspect ratio (black bars around).

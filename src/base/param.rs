@@ -1,4 +1,4 @@
-//! The typed error for invalid simulation parameters.
+//! The typed error for an invalid parameter (simulation, LOD, view, command line).
 
 /// A parameter outside its valid range (or NaN/infinite). Names the parameter, the value given
 /// and the valid range, so the CLI can print it verbatim and exit non-zero.

@@ -4,7 +4,7 @@
 use std::sync::{Arc, Condvar, Mutex};
 use std::time::{Duration, Instant};
 
-use crate::sim::error::ParamError;
+use crate::base::ParamError;
 use crate::sim::evolve::{self, LoopPhase};
 use crate::sim::fft::Fft2d;
 use crate::sim::grid::{AlignedBuf, GridSize, SplitField};

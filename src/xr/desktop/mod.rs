@@ -1,4 +1,4 @@
-//! The desktop mock-XR: a [`FrameLoop`] without a headset. It creates the Vulkan device itself,
+//! The desktop XR backend: a [`FrameLoop`] without a headset. It creates the Vulkan device itself,
 //! owns a 3-image 2-layer "swapchain", and makes both eye views from a head pose (63 mm IPD,
 //! Quest-3-like asymmetric FOVs) taken from a scripted [`CameraPath`] or, in a window, from the
 //! keyboard and mouse ([`controls`]). Headless it runs on a fixed 72 Hz clock, so the same path
@@ -15,7 +15,7 @@ use ash::vk;
 use glam::{Quat, Vec3};
 
 use super::{Acquired, FrameLoop, FrameState, XrError, MAX_TWEAKS};
-use crate::lod::{EyeView, Fov};
+use crate::base::{EyeView, Fov};
 use crate::render::memory::{Image, ImageDesc};
 use crate::render::{ContextOptions, GpuContext, RenderError, TargetImages};
 pub use path::{CameraPath, PathError};
@@ -30,13 +30,13 @@ pub const START_PITCH: f32 = -8.0;
 /// Inter-pupillary distance (m).
 pub const IPD: f32 = 0.063;
 
-/// Images in the mock swapchain.
+/// Images in the desktop swapchain.
 pub const SWAPCHAIN_IMAGES: usize = 3;
 
-/// The colour format of the mock swapchain (what a Quest runtime offers first).
+/// The colour format of the desktop swapchain (what a Quest runtime offers first).
 pub const COLOUR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
 
-/// Display period of the mock clock (s): 72 Hz, the Quest default.
+/// Display period of the fixed clock (s): 72 Hz, the Quest default.
 pub const PERIOD: f64 = 1.0 / 72.0;
 
 /// Both eyes for a head at `position` with `orientation`: each eye IPD/2 to its side, the
@@ -104,21 +104,21 @@ impl EyeSize {
 
 /// Where head poses come from.
 pub enum PoseSource {
-    /// A scripted path on the mock clock.
+    /// A scripted path on the fixed clock.
     Path(CameraPath),
     /// Keyboard and mouse (window mode).
     Controls(controls::FlyControls),
 }
 
-/// The 3-image, 2-layer colour "swapchain" the mock renders into.
-pub struct MockSwapchain {
+/// The 3-image, 2-layer colour "swapchain" the desktop backends render into.
+pub struct DesktopSwapchain {
     images: Vec<Image>,
     raw: Vec<vk::Image>,
     extent: vk::Extent2D,
     next: u32,
 }
 
-impl MockSwapchain {
+impl DesktopSwapchain {
     /// Creates the images (colour attachment, transfer source for read-back and blits).
     pub fn new(ctx: &GpuContext, size: EyeSize) -> Result<Self, RenderError> {
         let extent = size.extent();
@@ -181,10 +181,10 @@ impl MockSwapchain {
     }
 }
 
-/// The headless mock: renders `frames` frames along a path on the 72 Hz mock clock.
+/// The headless backend: renders `frames` frames along a path on the fixed 72 Hz clock.
 pub struct HeadlessXr {
     // Declared before `ctx`, destroyed explicitly in `Drop` while the device lives.
-    swapchain: MockSwapchain,
+    swapchain: DesktopSwapchain,
     ctx: GpuContext,
     path: CameraPath,
     frames: u64,
@@ -201,7 +201,7 @@ impl HeadlessXr {
         frames: u64,
     ) -> Result<Self, XrError> {
         let ctx = GpuContext::new(opts)?;
-        let swapchain = MockSwapchain::new(&ctx, size)?;
+        let swapchain = DesktopSwapchain::new(&ctx, size)?;
         Ok(Self {
             swapchain,
             ctx,
@@ -213,7 +213,7 @@ impl HeadlessXr {
     }
 
     /// The swapchain (read-back of the last image).
-    pub fn swapchain(&self) -> &MockSwapchain {
+    pub fn swapchain(&self) -> &DesktopSwapchain {
         &self.swapchain
     }
 

@@ -1,9 +1,9 @@
-//! The window mode of the desktop mock: a winit window showing both eyes side by side, head
+//! The window mode of the desktop backend: a winit window showing both eyes side by side, head
 //! pose from the keyboard and mouse ([`FlyControls`]) or a [`CameraPath`] on the real clock,
 //! live tweaks of the waves and the quality preset, frame times in the title.
 //!
 //! The app owns the loop, so winit is pumped (`pump_app_events`, no waiting) at the start of
-//! every frame. The app renders into the mock's own [`MockSwapchain`]; [`FrameLoop::end_frame`]
+//! every frame. The app renders into the backend's own [`DesktopSwapchain`]; [`FrameLoop::end_frame`]
 //! blits it into the window's swapchain (see `present`).
 //!
 //! Keys ([`KEYS_HELP`]): WASD move, Q/E down/up, Shift 5× faster, mouse look while a button is
@@ -24,7 +24,7 @@ use winit::window::{Window, WindowId};
 
 use super::controls::{FlyControls, MoveKey};
 use super::present::{Presenter, Screenshot};
-use super::{eye_views, CameraPath, EyeSize, MockSwapchain};
+use super::{eye_views, CameraPath, DesktopSwapchain, EyeSize};
 use crate::lod::QualityPreset;
 use crate::render::{ContextOptions, GpuContext, RenderError, TargetImages};
 use crate::xr::{Acquired, FrameLoop, FrameState, Tweak, XrError, MAX_TWEAKS};
@@ -251,11 +251,11 @@ impl ApplicationHandler for Input {
     }
 }
 
-/// The window mock-XR backend.
+/// The window backend.
 pub struct WindowXr {
     // Destroyed explicitly in `Drop` while `ctx` lives.
     presenter: Presenter,
-    swapchain: MockSwapchain,
+    swapchain: DesktopSwapchain,
     ctx: GpuContext,
     events: EventLoop<()>,
     input: Input,
@@ -364,7 +364,7 @@ impl WindowXr {
             RenderError::Unsupported(_) => OpenError::Unavailable(e.to_string()),
             e => OpenError::Failed(e.into()),
         })?;
-        let swapchain = match MockSwapchain::new(&ctx, size.eye()) {
+        let swapchain = match DesktopSwapchain::new(&ctx, size.eye()) {
             Ok(s) => s,
             Err(e) => {
                 presenter.destroy(&ctx);
