@@ -14,8 +14,10 @@ pub fn command_pool(
     let info = vk::CommandPoolCreateInfo::default()
         .queue_family_index(ctx.queue_family)
         .flags(flags);
-    unsafe { ctx.device.create_command_pool(&info, None) }
-        .map_err(RenderError::vk("vkCreateCommandPool"))
+    // SAFETY: a valid create info on a live device.
+    ctx.create("vkCreateCommandPool", || unsafe {
+        ctx.device.create_command_pool(&info, None)
+    })
 }
 
 /// `count` primary command buffers from `pool`.
@@ -28,8 +30,10 @@ pub fn primary_buffers(
         .command_pool(pool)
         .level(vk::CommandBufferLevel::PRIMARY)
         .command_buffer_count(count);
-    unsafe { ctx.device.allocate_command_buffers(&info) }
-        .map_err(RenderError::vk("vkAllocateCommandBuffers"))
+    // SAFETY: `pool` is alive and belongs to this device (the caller's contract).
+    ctx.create("vkAllocateCommandBuffers", || unsafe {
+        ctx.device.allocate_command_buffers(&info)
+    })
 }
 
 /// A fence, created signalled when `signalled` (so a first wait returns at once).
@@ -39,9 +43,9 @@ pub fn fence(ctx: &GpuContext, signalled: bool) -> Result<vk::Fence, RenderError
     } else {
         vk::FenceCreateFlags::empty()
     };
-    unsafe {
+    // SAFETY: a valid create info on a live device.
+    ctx.create("vkCreateFence", || unsafe {
         ctx.device
             .create_fence(&vk::FenceCreateInfo::default().flags(flags), None)
-    }
-    .map_err(RenderError::vk("vkCreateFence"))
+    })
 }

@@ -171,6 +171,9 @@ pub struct GpuContext {
     /// Validation messages, when the layer is loaded.
     pub validation: Option<Arc<ValidationLog>>,
     debug: Option<(ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+    /// Object creations left before an injected failure ([`GpuContext::fail_creation_after`]);
+    /// `u32::MAX`: none planned.
+    creations_left: AtomicU32,
 }
 
 impl GpuContext {
@@ -334,7 +337,36 @@ impl GpuContext {
             cpu_device: props.device_type == vk::PhysicalDeviceType::CPU,
             validation: log,
             debug,
+            creations_left: AtomicU32::new(u32::MAX),
         })
+    }
+
+    /// For tests of the clean-up paths: the renderer's object creations through this context
+    /// succeed `successes` more times, then the next one fails with an injected
+    /// `ERROR_OUT_OF_DEVICE_MEMORY` (and every one after it, until called again). `u32::MAX`
+    /// turns the injection off.
+    pub fn fail_creation_after(&self, successes: u32) {
+        self.creations_left.store(successes, Ordering::Relaxed);
+    }
+
+    /// Runs `create` (a `vkCreate*`/`vkAllocate*` call named `call`) unless an injected
+    /// failure is due; maps its error to [`RenderError::Vk`].
+    pub fn create<T>(
+        &self,
+        call: &'static str,
+        create: impl FnOnce() -> Result<T, vk::Result>,
+    ) -> Result<T, RenderError> {
+        let left = self.creations_left.load(Ordering::Relaxed);
+        if left != u32::MAX {
+            if left == 0 {
+                return Err(RenderError::Vk {
+                    call,
+                    result: vk::Result::ERROR_OUT_OF_DEVICE_MEMORY,
+                });
+            }
+            self.creations_left.store(left - 1, Ordering::Relaxed);
+        }
+        create().map_err(RenderError::vk(call))
     }
 
     /// Validation errors so far (0 without the layer).

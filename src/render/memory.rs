@@ -20,7 +20,19 @@ pub struct Buffer {
 unsafe impl Send for Buffer {}
 
 impl Buffer {
+    /// A buffer not made yet: destroying it does nothing (a placeholder for parts created in
+    /// steps).
+    pub fn null() -> Self {
+        Self {
+            raw: vk::Buffer::null(),
+            memory: vk::DeviceMemory::null(),
+            size: 0,
+            mapped: std::ptr::null_mut(),
+        }
+    }
+
     /// A device-local buffer (`host_visible` false) or a host-visible, coherent, mapped one.
+    /// Nothing is left behind when a step fails.
     pub fn new(
         ctx: &GpuContext,
         size: u64,
@@ -32,31 +44,44 @@ impl Buffer {
             .size(size.max(4))
             .usage(usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
-        let raw =
-            unsafe { d.create_buffer(&info, None) }.map_err(RenderError::vk("vkCreateBuffer"))?;
-        let req = unsafe { d.get_buffer_memory_requirements(raw) };
+        // SAFETY: a valid create info on a live device.
+        let raw = ctx.create("vkCreateBuffer", || unsafe { d.create_buffer(&info, None) })?;
+        let mut this = Self {
+            raw,
+            memory: vk::DeviceMemory::null(),
+            size,
+            mapped: std::ptr::null_mut(),
+        };
+        if let Err(e) = this.bind(ctx, host_visible) {
+            this.destroy(ctx);
+            return Err(e);
+        }
+        Ok(this)
+    }
+
+    /// Allocates, binds and (host-visible) maps the buffer's memory.
+    fn bind(&mut self, ctx: &GpuContext, host_visible: bool) -> Result<(), RenderError> {
+        let d = &ctx.device;
+        // SAFETY: the buffer is alive.
+        let req = unsafe { d.get_buffer_memory_requirements(self.raw) };
         let flags = if host_visible {
             vk::MemoryPropertyFlags::HOST_VISIBLE | vk::MemoryPropertyFlags::HOST_COHERENT
         } else {
             vk::MemoryPropertyFlags::DEVICE_LOCAL
         };
-        let memory = allocate(ctx, req, flags).inspect_err(|_| unsafe {
-            d.destroy_buffer(raw, None);
-        })?;
-        unsafe { d.bind_buffer_memory(raw, memory, 0) }
+        self.memory = allocate(ctx, req, flags)?;
+        // SAFETY: fresh memory of the buffer's requirements, bound once at offset 0.
+        unsafe { d.bind_buffer_memory(self.raw, self.memory, 0) }
             .map_err(RenderError::vk("vkBindBufferMemory"))?;
-        let mapped = if host_visible {
-            unsafe { d.map_memory(memory, 0, vk::WHOLE_SIZE, vk::MemoryMapFlags::empty()) }
-                .map_err(RenderError::vk("vkMapMemory"))? as *mut u8
-        } else {
-            std::ptr::null_mut()
-        };
-        Ok(Self {
-            raw,
-            memory,
-            size,
-            mapped,
-        })
+        if host_visible {
+            // SAFETY: host-visible memory, mapped once for the buffer's lifetime.
+            let p = unsafe {
+                d.map_memory(self.memory, 0, vk::WHOLE_SIZE, vk::MemoryMapFlags::empty())
+            }
+            .map_err(RenderError::vk("vkMapMemory"))?;
+            self.mapped = p as *mut u8;
+        }
+        Ok(())
     }
 
     /// The mapped bytes (host-visible buffers only).
@@ -79,8 +104,10 @@ impl Buffer {
         unsafe { std::slice::from_raw_parts(self.mapped, self.size as usize) }
     }
 
-    /// Frees the buffer. The GPU must be done with it.
+    /// Frees the buffer (null handles are skipped). The GPU must be done with it.
     pub fn destroy(&mut self, ctx: &GpuContext) {
+        // SAFETY: the GPU no longer uses the buffer (the caller's contract); freeing the memory
+        // unmaps it; destroying null handles is a no-op.
         unsafe {
             ctx.device.destroy_buffer(self.raw, None);
             ctx.device.free_memory(self.memory, None);
@@ -128,7 +155,8 @@ pub struct ImageDesc {
 }
 
 impl Image {
-    /// Creates the image, its memory and its array view.
+    /// Creates the image, its memory and its array view. Nothing is left behind when a step
+    /// fails.
     pub fn new(ctx: &GpuContext, desc: ImageDesc) -> Result<Self, RenderError> {
         let d = &ctx.device;
         let info = vk::ImageCreateInfo::default()
@@ -146,9 +174,44 @@ impl Image {
             .usage(desc.usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE)
             .initial_layout(vk::ImageLayout::UNDEFINED);
-        let raw =
-            unsafe { d.create_image(&info, None) }.map_err(RenderError::vk("vkCreateImage"))?;
-        let req = unsafe { d.get_image_memory_requirements(raw) };
+        // SAFETY: a valid create info on a live device.
+        let raw = ctx.create("vkCreateImage", || unsafe { d.create_image(&info, None) })?;
+        let mut this = Self {
+            raw,
+            memory: vk::DeviceMemory::null(),
+            view: vk::ImageView::null(),
+            format: desc.format,
+            extent: desc.extent,
+            layers: desc.layers,
+            mips: desc.mips,
+        };
+        if let Err(e) = this.bind_and_view(ctx, desc) {
+            this.destroy(ctx);
+            return Err(e);
+        }
+        Ok(this)
+    }
+
+    /// An image not made yet: destroying it does nothing (a placeholder for parts created in
+    /// steps).
+    pub fn null() -> Self {
+        Self {
+            raw: vk::Image::null(),
+            memory: vk::DeviceMemory::null(),
+            view: vk::ImageView::null(),
+            format: vk::Format::UNDEFINED,
+            extent: vk::Extent2D::default(),
+            layers: 0,
+            mips: 0,
+        }
+    }
+
+    /// Allocates and binds the memory (lazily allocated for transient attachments where the
+    /// device offers it), then makes the view.
+    fn bind_and_view(&mut self, ctx: &GpuContext, desc: ImageDesc) -> Result<(), RenderError> {
+        let d = &ctx.device;
+        // SAFETY: the image is alive.
+        let req = unsafe { d.get_image_memory_requirements(self.raw) };
         let lazy =
             vk::MemoryPropertyFlags::DEVICE_LOCAL | vk::MemoryPropertyFlags::LAZILY_ALLOCATED;
         let flags = if desc.transient && ctx.memory_type(req.memory_type_bits, lazy).is_some() {
@@ -156,39 +219,34 @@ impl Image {
         } else {
             vk::MemoryPropertyFlags::DEVICE_LOCAL
         };
-        let memory = allocate(ctx, req, flags).inspect_err(|_| unsafe {
-            d.destroy_image(raw, None);
-        })?;
-        unsafe { d.bind_image_memory(raw, memory, 0) }
+        self.memory = allocate(ctx, req, flags)?;
+        // SAFETY: fresh memory of the image's requirements, bound once at offset 0.
+        unsafe { d.bind_image_memory(self.raw, self.memory, 0) }
             .map_err(RenderError::vk("vkBindImageMemory"))?;
-        let view = create_view(
+        self.view = create_view(
             ctx,
-            raw,
+            self.raw,
             desc.format,
             desc.aspect,
             0,
             desc.layers,
             desc.mips,
         )?;
-        Ok(Self {
-            raw,
-            memory,
-            view,
-            format: desc.format,
-            extent: desc.extent,
-            layers: desc.layers,
-            mips: desc.mips,
-        })
+        Ok(())
     }
 
-    /// Frees the image. The GPU must be done with it.
+    /// Frees the image (null handles are skipped). The GPU must be done with it.
     pub fn destroy(&mut self, ctx: &GpuContext) {
+        // SAFETY: the GPU no longer uses the image (the caller's contract); destroying null
+        // handles is a no-op.
         unsafe {
             ctx.device.destroy_image_view(self.view, None);
             ctx.device.destroy_image(self.raw, None);
             ctx.device.free_memory(self.memory, None);
         }
         self.raw = vk::Image::null();
+        self.view = vk::ImageView::null();
+        self.memory = vk::DeviceMemory::null();
     }
 }
 
@@ -213,8 +271,10 @@ pub fn create_view(
             base_array_layer: base,
             layer_count: count,
         });
-    unsafe { ctx.device.create_image_view(&info, None) }
-        .map_err(RenderError::vk("vkCreateImageView"))
+    // SAFETY: `image` is alive and the range lies within it (the caller's contract).
+    ctx.create("vkCreateImageView", || unsafe {
+        ctx.device.create_image_view(&info, None)
+    })
 }
 
 fn allocate(
@@ -228,34 +288,8 @@ fn allocate(
     let info = vk::MemoryAllocateInfo::default()
         .allocation_size(req.size)
         .memory_type_index(index);
-    unsafe { ctx.device.allocate_memory(&info, None) }.map_err(RenderError::vk("vkAllocateMemory"))
-}
-
-/// An image memory barrier over `layers` layers and `mips` mips of a colour or depth image.
-#[allow(clippy::too_many_arguments)]
-pub fn image_barrier(
-    image: vk::Image,
-    aspect: vk::ImageAspectFlags,
-    layers: u32,
-    mips: u32,
-    old: vk::ImageLayout,
-    new: vk::ImageLayout,
-    src_access: vk::AccessFlags,
-    dst_access: vk::AccessFlags,
-) -> vk::ImageMemoryBarrier<'static> {
-    vk::ImageMemoryBarrier::default()
-        .image(image)
-        .old_layout(old)
-        .new_layout(new)
-        .src_access_mask(src_access)
-        .dst_access_mask(dst_access)
-        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-        .subresource_range(vk::ImageSubresourceRange {
-            aspect_mask: aspect,
-            base_mip_level: 0,
-            level_count: mips,
-            base_array_layer: 0,
-            layer_count: layers,
-        })
+    // SAFETY: a valid allocate info of one of the device's memory types.
+    ctx.create("vkAllocateMemory", || unsafe {
+        ctx.device.allocate_memory(&info, None)
+    })
 }

@@ -6,12 +6,14 @@
 //! - [`context`]: instance, device, queue, validation-error counting.
 //! - [`commands`]: command pools, buffers and fences.
 //! - [`memory`]: buffers and images with their own memory.
+//! - [`barrier`]: pipeline barriers written as named access states (`from` → `to`).
 //! - [`pipeline`]: the stereo render pass and the ocean and sky pipelines.
 //! - [`camera`]: reversed-Z projections and the uniform block.
 //! - [`ocean`]: the per-frame renderer.
 //! - [`readback`]: copies a rendered array image to the CPU (screenshots, tests).
 //! - [`shaders`]: SPIR-V compiled from `shaders/` by `build.rs`.
 
+pub mod barrier;
 pub mod camera;
 pub mod commands;
 pub mod context;

@@ -73,8 +73,30 @@ impl Pipelines {
         if mode == StereoMode::Multiview && !ctx.multiview {
             return Err(RenderError::Unsupported("the multiview feature".into()));
         }
+        let mut this = Self {
+            mode,
+            render_pass: vk::RenderPass::null(),
+            set_layout: vk::DescriptorSetLayout::null(),
+            layout: vk::PipelineLayout::null(),
+            ocean: vk::Pipeline::null(),
+        };
+        if let Err(e) = this.create(ctx, colour_format, store_depth) {
+            this.destroy(ctx);
+            return Err(e);
+        }
+        Ok(this)
+    }
+
+    /// Creates the objects in order; [`Pipelines::destroy`] frees whatever was made when a
+    /// step fails.
+    fn create(
+        &mut self,
+        ctx: &GpuContext,
+        colour_format: vk::Format,
+        store_depth: bool,
+    ) -> Result<(), RenderError> {
         let d = &ctx.device;
-        let render_pass = render_pass(ctx, mode, colour_format, store_depth)?;
+        self.render_pass = render_pass(ctx, self.mode, colour_format, store_depth)?;
         let bindings = [
             vk::DescriptorSetLayoutBinding::default()
                 .binding(0)
@@ -92,45 +114,42 @@ impl Pipelines {
                 .descriptor_count(1)
                 .stage_flags(vk::ShaderStageFlags::FRAGMENT),
         ];
-        let set_layout = unsafe {
-            d.create_descriptor_set_layout(
-                &vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings),
-                None,
-            )
-        }
-        .map_err(RenderError::vk("vkCreateDescriptorSetLayout"))?;
+        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+        // SAFETY: a valid create info on a live device.
+        self.set_layout = ctx.create("vkCreateDescriptorSetLayout", || unsafe {
+            d.create_descriptor_set_layout(&info, None)
+        })?;
         let push = [vk::PushConstantRange {
             stage_flags: vk::ShaderStageFlags::VERTEX,
             offset: 0,
             size: std::mem::size_of::<Push>() as u32,
         }];
-        let layouts = [set_layout];
-        let layout = unsafe {
-            d.create_pipeline_layout(
-                &vk::PipelineLayoutCreateInfo::default()
-                    .set_layouts(&layouts)
-                    .push_constant_ranges(&push),
-                None,
-            )
-        }
-        .map_err(RenderError::vk("vkCreatePipelineLayout"))?;
-        let vert = match mode {
+        let layouts = [self.set_layout];
+        let info = vk::PipelineLayoutCreateInfo::default()
+            .set_layouts(&layouts)
+            .push_constant_ranges(&push);
+        // SAFETY: the set layout is alive.
+        self.layout = ctx.create("vkCreatePipelineLayout", || unsafe {
+            d.create_pipeline_layout(&info, None)
+        })?;
+        let vert = match self.mode {
             StereoMode::Multiview => shaders::OCEAN_VERT_MULTIVIEW,
             StereoMode::TwoPass => shaders::OCEAN_VERT,
         };
-        let ocean = build(ctx, vert, shaders::OCEAN_FRAG, layout, render_pass)?;
-        Ok(Self {
-            mode,
-            render_pass,
-            set_layout,
-            layout,
-            ocean,
-        })
+        self.ocean = build(
+            ctx,
+            vert,
+            shaders::OCEAN_FRAG,
+            self.layout,
+            self.render_pass,
+        )?;
+        Ok(())
     }
 
-    /// Frees everything. The GPU must be done with it.
+    /// Frees everything (null handles are skipped). The GPU must be done with it.
     pub fn destroy(&mut self, ctx: &GpuContext) {
         let d = &ctx.device;
+        // SAFETY: the GPU no longer uses them (the caller's contract); null handles are no-ops.
         unsafe {
             d.destroy_pipeline(self.ocean, None);
             d.destroy_pipeline_layout(self.layout, None);
@@ -219,8 +238,10 @@ fn render_pass(
     if mode == StereoMode::Multiview {
         info = info.push_next(&mut multiview);
     }
-    unsafe { ctx.device.create_render_pass(&info, None) }
-        .map_err(RenderError::vk("vkCreateRenderPass"))
+    // SAFETY: every array `info` points at lives until the call returns.
+    ctx.create("vkCreateRenderPass", || unsafe {
+        ctx.device.create_render_pass(&info, None)
+    })
 }
 
 fn build(
@@ -232,10 +253,14 @@ fn build(
 ) -> Result<vk::Pipeline, RenderError> {
     let d = &ctx.device;
     let module = |code: &[u32]| {
-        unsafe { d.create_shader_module(&vk::ShaderModuleCreateInfo::default().code(code), None) }
-            .map_err(RenderError::vk("vkCreateShaderModule"))
+        let info = vk::ShaderModuleCreateInfo::default().code(code);
+        // SAFETY: `code` is SPIR-V from `build.rs`, validated there.
+        ctx.create("vkCreateShaderModule", || unsafe {
+            d.create_shader_module(&info, None)
+        })
     };
     let vert = module(vert)?;
+    // SAFETY (the closure): the vertex module is unused when the fragment module fails.
     let frag = module(frag).inspect_err(|_| unsafe { d.destroy_shader_module(vert, None) })?;
     const MAIN: &CStr = c"main";
     let stages = [
@@ -318,13 +343,16 @@ fn build(
         .layout(layout)
         .render_pass(render_pass)
         .subpass(0);
-    let result = unsafe { d.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) };
+    // SAFETY: every struct `info` points at lives until the call returns; the layout and the
+    // render pass are alive.
+    let result = ctx.create("vkCreateGraphicsPipelines", || unsafe {
+        d.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+            .map_err(|(_, e)| e)
+    });
+    // SAFETY: a pipeline no longer needs its modules once created (or creation failed).
     unsafe {
         d.destroy_shader_module(vert, None);
         d.destroy_shader_module(frag, None);
     }
-    result.map(|p| p[0]).map_err(|(_, e)| RenderError::Vk {
-        call: "vkCreateGraphicsPipelines",
-        result: e,
-    })
+    result.map(|p| p[0])
 }

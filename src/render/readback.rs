@@ -4,9 +4,10 @@
 
 use ash::vk;
 
+use super::barrier::{self, Access, ImageBarrier};
 use super::context::GpuContext;
 use super::error::RenderError;
-use super::memory::{image_barrier, Buffer};
+use super::memory::Buffer;
 
 /// A host buffer big enough for both eyes of one target image.
 pub struct Readback {
@@ -28,33 +29,12 @@ impl Readback {
     /// and returns the left and right eyes as tightly packed RGBA8 rows.
     pub fn read(&mut self, ctx: &GpuContext, image: vk::Image) -> Result<[&[u8]; 2], RenderError> {
         let (w, h) = (self.extent.width, self.extent.height);
-        let colour = vk::ImageAspectFlags::COLOR;
-        let to_src = image_barrier(
-            image,
-            colour,
-            2,
-            1,
-            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
-            vk::AccessFlags::TRANSFER_READ,
-        );
-        let back = image_barrier(
-            image,
-            colour,
-            2,
-            1,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            vk::AccessFlags::TRANSFER_READ,
-            vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
-        );
         let region = vk::BufferImageCopy {
             buffer_offset: 0,
             buffer_row_length: 0,
             buffer_image_height: 0,
             image_subresource: vk::ImageSubresourceLayers {
-                aspect_mask: colour,
+                aspect_mask: vk::ImageAspectFlags::COLOR,
                 mip_level: 0,
                 base_array_layer: 0,
                 layer_count: 2,
@@ -67,33 +47,25 @@ impl Readback {
             },
         };
         let buffer = self.buffer.raw;
-        super::one_shot(ctx, |cmd| unsafe {
+        super::one_shot(ctx, |cmd| {
             let d = &ctx.device;
-            d.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::DependencyFlags::empty(),
-                &[],
-                &[],
-                &[to_src],
-            );
-            d.cmd_copy_image_to_buffer(
-                cmd,
-                image,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                buffer,
-                &[region],
-            );
-            d.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT,
-                vk::DependencyFlags::empty(),
-                &[],
-                &[],
-                &[back],
-            );
+            let to_src =
+                ImageBarrier::colour(image, 2, Access::ColourAttachment, Access::TransferRead);
+            barrier::record(d, cmd, [to_src], None);
+            // SAFETY: `cmd` is recording; the image is in TRANSFER_SRC_OPTIMAL after the barrier
+            // and the buffer holds both layers.
+            unsafe {
+                d.cmd_copy_image_to_buffer(
+                    cmd,
+                    image,
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    buffer,
+                    &[region],
+                )
+            };
+            let back =
+                ImageBarrier::colour(image, 2, Access::TransferRead, Access::ColourAttachment);
+            barrier::record(d, cmd, [back], None);
         })?;
         let eye = 4 * w as usize * h as usize;
         let bytes = self.buffer.bytes();

@@ -63,8 +63,11 @@ pub struct Acquired {
 pub enum XrError {
     /// The Vulkan side failed.
     Render(RenderError),
-    /// A pose source or window failed.
+    /// A pose source or window failed, or an OpenXR runtime is missing or unusable (the
+    /// message says what to install or check).
     Backend(String),
+    /// An OpenXR call failed (its name and result code; losing the runtime is worded there).
+    OpenXr(openxr::CallError),
 }
 
 impl std::fmt::Display for XrError {
@@ -72,11 +75,18 @@ impl std::fmt::Display for XrError {
         match self {
             XrError::Render(e) => e.fmt(f),
             XrError::Backend(e) => f.write_str(e),
+            XrError::OpenXr(e) => e.fmt(f),
         }
     }
 }
 
 impl std::error::Error for XrError {}
+
+impl From<openxr::CallError> for XrError {
+    fn from(e: openxr::CallError) -> Self {
+        XrError::OpenXr(e)
+    }
+}
 
 impl From<RenderError> for XrError {
     fn from(e: RenderError) -> Self {

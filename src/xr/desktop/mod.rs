@@ -120,31 +120,37 @@ pub struct DesktopSwapchain {
 
 impl DesktopSwapchain {
     /// Creates the images (colour attachment, transfer source for read-back and blits).
+    /// Nothing is left behind when one fails.
     pub fn new(ctx: &GpuContext, size: EyeSize) -> Result<Self, RenderError> {
         let extent = size.extent();
-        let mut images = Vec::with_capacity(SWAPCHAIN_IMAGES);
-        for _ in 0..SWAPCHAIN_IMAGES {
-            images.push(Image::new(
-                ctx,
-                ImageDesc {
-                    format: COLOUR_FORMAT,
-                    extent,
-                    layers: 2,
-                    mips: 1,
-                    usage: vk::ImageUsageFlags::COLOR_ATTACHMENT
-                        | vk::ImageUsageFlags::TRANSFER_SRC,
-                    aspect: vk::ImageAspectFlags::COLOR,
-                    transient: false,
-                },
-            )?);
-        }
-        let raw = images.iter().map(|i| i.raw).collect();
-        Ok(Self {
-            images,
-            raw,
+        let mut this = Self {
+            images: Vec::with_capacity(SWAPCHAIN_IMAGES),
+            raw: Vec::with_capacity(SWAPCHAIN_IMAGES),
             extent,
             next: 0,
-        })
+        };
+        let desc = ImageDesc {
+            format: COLOUR_FORMAT,
+            extent,
+            layers: 2,
+            mips: 1,
+            usage: vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+            aspect: vk::ImageAspectFlags::COLOR,
+            transient: false,
+        };
+        for _ in 0..SWAPCHAIN_IMAGES {
+            match Image::new(ctx, desc) {
+                Ok(image) => {
+                    this.raw.push(image.raw);
+                    this.images.push(image);
+                }
+                Err(e) => {
+                    this.destroy(ctx);
+                    return Err(e);
+                }
+            }
+        }
+        Ok(this)
     }
 
     /// The images, as the renderer takes them.

@@ -1,0 +1,401 @@
+//! The ocean renderer: uploads the simulation's textures and the LOD's instances through a
+//! per-frame ring, records one multiview pass (or two passes) of at most 16 patch draws, the
+//! skirt and the sky, and times the pass with GPU timestamps. One file per job, following the
+//! objects' lifetimes:
+//!
+//! - [`slots`]: the frames-in-flight ring (what the CPU writes per frame);
+//! - [`textures`]: the cascade textures, their samplers and the upload;
+//! - [`mesh`]: the patch, skirt and sky meshes, uploaded once;
+//! - [`targets`]: views and framebuffers of the target images;
+//! - [`pass`]: the uniforms, cascade fades and the pass's recording.
+//!
+//! Invariants:
+//! - A slot is reused only after its fence signals, so the CPU never writes memory the GPU
+//!   still reads, and the frame loop never waits for the whole device.
+//! - The cascade textures exist once on the GPU; each frame's copy into them is ordered after
+//!   the previous frame's reads by a pipeline barrier in the same queue.
+//! - Nothing here allocates per frame: every buffer, region list and set is sized at creation.
+//! - Creation is all or nothing: when a step fails, every part made before it is destroyed
+//!   (tested by injecting a failure at each creation in turn).
+
+mod mesh;
+mod pass;
+mod slots;
+mod targets;
+mod textures;
+
+use std::time::{Duration, Instant};
+
+use ash::vk;
+use glam::Vec3;
+
+use self::mesh::MeshBuffers;
+use self::pass::{PassConstants, PassRecorder};
+use self::slots::{SlotSizes, Slots, TIMESTAMP_QUERIES};
+use self::targets::Targets;
+use self::textures::CascadeTextures;
+use super::context::GpuContext;
+use super::error::RenderError;
+use super::pipeline::{Pipelines, StereoMode};
+use crate::base::EyeView;
+use crate::lod::OceanLod;
+use crate::sim::{OceanConfig, Surfaces};
+
+/// The most cascades the shaders read (a `vec4` of patch sizes).
+pub const MAX_CASCADES: usize = 4;
+
+/// Renderer settings fixed at creation.
+#[derive(Clone, Copy, Debug)]
+pub struct RendererSettings {
+    /// Multiview or the two-pass fallback.
+    pub stereo: StereoMode,
+    /// Frames the CPU may record ahead of the GPU (≥ 2); also the staging ring's slot count.
+    pub frames_in_flight: usize,
+    /// Unit direction towards the sun.
+    pub sun_direction: Vec3,
+    /// Sun intensity (relative; 1 is an overcast disc, 8 a bright one).
+    pub sun_intensity: f32,
+    /// Distance (m) over which fog reaches 63% (exp(−d/fog)).
+    pub fog_distance: f32,
+    /// Paint the sky magenta so any sky pixel under the horizon shows (crack tests).
+    pub sky_marker: bool,
+}
+
+impl Default for RendererSettings {
+    fn default() -> Self {
+        Self {
+            stereo: StereoMode::Multiview,
+            frames_in_flight: 2,
+            sun_direction: Vec3::new(0.45, 0.3, -0.84).normalize(),
+            sun_intensity: 8.0,
+            fog_distance: 4000.0,
+            sky_marker: false,
+        }
+    }
+}
+
+/// The target images a renderer draws into: 2-layer colour arrays owned by the XR backend.
+#[derive(Clone, Copy, Debug)]
+pub struct TargetImages<'a> {
+    /// The swapchain's images (each 2 layers: left, right).
+    pub images: &'a [vk::Image],
+    /// Their format (sRGB).
+    pub format: vk::Format,
+    /// Their size per eye.
+    pub extent: vk::Extent2D,
+    /// 2-layer depth images (`DEPTH_FORMAT`) whose contents are kept for the compositor (an
+    /// OpenXR depth swapchain); empty: the renderer uses a transient depth image of its own.
+    pub depth: &'a [vk::Image],
+}
+
+/// One frame's inputs.
+#[derive(Clone, Copy)]
+pub struct FrameInput<'a> {
+    /// Which target image to draw into.
+    pub image: u32,
+    /// Which of [`TargetImages::depth`] to use (0 without them).
+    pub depth: u32,
+    /// Both eyes.
+    pub eyes: &'a [EyeView; 2],
+    /// The LOD, already updated for this frame.
+    pub lod: &'a OceanLod,
+    /// The simulation result to show.
+    pub surfaces: &'a Surfaces,
+}
+
+/// What one [`OceanRenderer::render`] call measured.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FrameReport {
+    /// Waiting for this slot's previous frame (GPU back-pressure).
+    pub wait: Duration,
+    /// Writing uniforms, instances and staging data, and recording.
+    pub record: Duration,
+    /// `vkQueueSubmit`.
+    pub submit: Duration,
+    /// GPU time of the ocean pass of the frame that last used this slot, if timed.
+    pub gpu_pass: Option<Duration>,
+    /// Draw calls recorded this frame (all passes).
+    pub draws: u32,
+}
+
+/// The parts of a renderer, made one after the other; whatever exists is destroyed when a
+/// later step fails.
+#[derive(Default)]
+struct Parts {
+    pipelines: Option<Pipelines>,
+    textures: Option<CascadeTextures>,
+    mesh: Option<MeshBuffers>,
+    targets: Option<Targets>,
+    slots: Option<Slots>,
+}
+
+impl Parts {
+    fn destroy(&mut self, ctx: &GpuContext) {
+        if let Some(mut s) = self.slots.take() {
+            s.destroy(ctx);
+        }
+        if let Some(mut t) = self.targets.take() {
+            t.destroy(ctx);
+        }
+        if let Some(mut m) = self.mesh.take() {
+            m.destroy(ctx);
+        }
+        if let Some(mut t) = self.textures.take() {
+            t.destroy(ctx);
+        }
+        if let Some(mut p) = self.pipelines.take() {
+            p.destroy(ctx);
+        }
+    }
+}
+
+/// Draws the ocean and the sky for both eyes.
+pub struct OceanRenderer {
+    settings: RendererSettings,
+    pipelines: Pipelines,
+    textures: CascadeTextures,
+    mesh: MeshBuffers,
+    targets: Targets,
+    slots: Slots,
+    pass: PassConstants,
+    extent: vk::Extent2D,
+    frame: u64,
+}
+
+impl OceanRenderer {
+    /// Creates everything for drawing `config`'s cascades on `lod`'s meshes into `targets`.
+    /// All or nothing: when a step fails, what was made before it is destroyed.
+    pub fn new(
+        ctx: &GpuContext,
+        config: &OceanConfig,
+        lod: &OceanLod,
+        targets: TargetImages<'_>,
+        settings: RendererSettings,
+    ) -> Result<Self, RenderError> {
+        validate(config, targets, &settings)?;
+        let mut parts = Parts::default();
+        if let Err(e) = make_parts(ctx, config, lod, targets, &settings, &mut parts) {
+            parts.destroy(ctx);
+            return Err(e);
+        }
+        let Parts {
+            pipelines: Some(pipelines),
+            textures: Some(textures),
+            mesh: Some(mesh),
+            targets: Some(out_targets),
+            slots: Some(slots),
+        } = parts
+        else {
+            unreachable!("make_parts returned Ok with every part made");
+        };
+        Ok(Self {
+            settings,
+            pipelines,
+            textures,
+            mesh,
+            targets: out_targets,
+            slots,
+            pass: PassConstants::new(config, lod.settings()),
+            extent: targets.extent,
+            frame: 0,
+        })
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &RendererSettings {
+        &self.settings
+    }
+
+    /// Records and submits one frame into target `input.image`. Waits only for the frame that
+    /// last used this slot (`frames_in_flight` frames ago).
+    pub fn render(
+        &mut self,
+        ctx: &GpuContext,
+        input: &FrameInput<'_>,
+    ) -> Result<FrameReport, RenderError> {
+        if input.image as usize >= self.targets.colours
+            || input.depth as usize >= self.targets.depths
+        {
+            return Err(RenderError::Invalid(format!(
+                "target image {} of {} (depth {} of {})",
+                input.image, self.targets.colours, input.depth, self.targets.depths
+            )));
+        }
+        let ring = self.slots.ring.len();
+        let index = (self.frame % ring as u64) as usize;
+        self.frame += 1;
+        let t0 = Instant::now();
+        let slot = &mut self.slots.ring[index];
+        slot.wait(ctx)?;
+        let mut wait = t0.elapsed();
+        let t1 = Instant::now();
+        // The slot's fence has signalled, so its timestamps are ready (on a CPU device they
+        // are read before the submit below instead).
+        let mut gpu_pass = if slot.submitted && !ctx.cpu_device {
+            slot.read_timestamps(ctx)
+        } else {
+            None
+        };
+        slot.write_globals(&self.pass.globals(input, &self.settings));
+        let skirt_instance = slot.write_instances(input.lod)?;
+        // Textures, when the simulation moved on since this slot last uploaded.
+        let time = input.surfaces.time();
+        let upload = slot.uploaded != Some(time) || self.frame <= 1;
+        if upload {
+            self.textures
+                .stage(slot.staging.bytes_mut(), input.surfaces);
+            slot.uploaded = Some(time);
+        }
+        slot.begin(ctx)?;
+        let (d, cmd) = (&ctx.device, slot.cmd);
+        if upload {
+            self.textures.record_upload(d, cmd, slot.staging.raw);
+        }
+        let timed = ctx.timestamp_period.is_some();
+        if timed {
+            // SAFETY: `cmd` is recording; the pool has TIMESTAMP_QUERIES queries.
+            unsafe {
+                d.cmd_reset_query_pool(cmd, slot.queries, 0, TIMESTAMP_QUERIES);
+                d.cmd_write_timestamp(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, slot.queries, 0);
+            }
+        }
+        let recorder = PassRecorder {
+            device: d,
+            cmd,
+            pipelines: &self.pipelines,
+            mesh: &self.mesh,
+            instances: slot.instances.raw,
+            set: slot.set,
+            extent: self.extent,
+            vertices_per_side: self.pass.vertices_per_side,
+        };
+        let passes: &[u32] = match self.settings.stereo {
+            StereoMode::Multiview => &[0],
+            StereoMode::TwoPass => &[0, 1],
+        };
+        let mut draws = 0;
+        for &eye in passes {
+            let fb = self.targets.framebuffer(input.image, input.depth, eye);
+            draws += recorder.record(fb, eye, input.lod, skirt_instance);
+        }
+        // SAFETY: `cmd` is recording, outside a render pass.
+        unsafe {
+            if timed {
+                d.cmd_write_timestamp(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, slot.queries, 1);
+            }
+            d.end_command_buffer(cmd)
+                .map_err(RenderError::vk("vkEndCommandBuffer"))?;
+        }
+        let record = t1.elapsed();
+        if ctx.cpu_device {
+            // lavapipe idles the device in vkGetQueryPoolResults. Reading the previous frame's
+            // timestamps here, after recording this one, waits only for work that this submit
+            // would queue behind anyway; at the top of the frame it would also stall recording.
+            let prev = &self.slots.ring[(index + ring - 1) % ring];
+            if prev.submitted {
+                let w = Instant::now();
+                gpu_pass = prev.read_timestamps(ctx);
+                wait += w.elapsed();
+            }
+        }
+        let slot = &mut self.slots.ring[index];
+        let t2 = Instant::now();
+        let cmds = [slot.cmd];
+        let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
+        // SAFETY: the fence is not in use (it signalled); the command buffer is executable.
+        // The fence is reset only now: an error above leaves it signalled, so no later wait
+        // hangs.
+        unsafe {
+            d.reset_fences(&[slot.fence])
+                .map_err(RenderError::vk("vkResetFences"))?;
+            d.queue_submit(ctx.queue, &submit, slot.fence)
+                .map_err(RenderError::vk("vkQueueSubmit"))?;
+        }
+        slot.submitted = true;
+        Ok(FrameReport {
+            wait,
+            record,
+            submit: t2.elapsed(),
+            gpu_pass,
+            draws,
+        })
+    }
+
+    /// Waits for every frame in flight (shutdown and read-back only).
+    pub fn wait_all(&self, ctx: &GpuContext) -> Result<(), RenderError> {
+        let ring = &self.slots.ring;
+        let fences: [vk::Fence; 4] =
+            std::array::from_fn(|i| ring.get(i).map_or(vk::Fence::null(), |s| s.fence));
+        // SAFETY: the fences are alive.
+        unsafe {
+            ctx.device
+                .wait_for_fences(&fences[..ring.len()], true, u64::MAX)
+        }
+        .map_err(RenderError::vk("vkWaitForFences"))
+    }
+
+    /// Frees everything. The caller makes sure the GPU is idle (e.g. [`GpuContext::wait_idle`]).
+    pub fn destroy(&mut self, ctx: &GpuContext) {
+        self.slots.destroy(ctx);
+        self.targets.destroy(ctx);
+        self.mesh.destroy(ctx);
+        self.textures.destroy(ctx);
+        self.pipelines.destroy(ctx);
+    }
+}
+
+/// Checks the settings and targets before anything is created.
+fn validate(
+    config: &OceanConfig,
+    targets: TargetImages<'_>,
+    settings: &RendererSettings,
+) -> Result<(), RenderError> {
+    if settings.frames_in_flight < 2 || settings.frames_in_flight > 4 {
+        return Err(RenderError::Invalid(format!(
+            "frames in flight: {} is outside [2, 4]",
+            settings.frames_in_flight
+        )));
+    }
+    if config.patch_sizes.len() > MAX_CASCADES {
+        return Err(RenderError::Invalid(format!(
+            "{} cascades: the renderer draws at most {MAX_CASCADES}",
+            config.patch_sizes.len()
+        )));
+    }
+    if targets.extent.width == 0 || targets.extent.height == 0 {
+        return Err(RenderError::Invalid(format!(
+            "target size {}x{}: both sides must be at least 1 pixel",
+            targets.extent.width, targets.extent.height
+        )));
+    }
+    Ok(())
+}
+
+/// Makes the parts in order into `parts` (the caller destroys them if this fails).
+fn make_parts(
+    ctx: &GpuContext,
+    config: &OceanConfig,
+    lod: &OceanLod,
+    targets: TargetImages<'_>,
+    settings: &RendererSettings,
+    parts: &mut Parts,
+) -> Result<(), RenderError> {
+    let store_depth = !targets.depth.is_empty();
+    let pipelines = parts.pipelines.insert(Pipelines::new(
+        ctx,
+        settings.stereo,
+        targets.format,
+        store_depth,
+    )?);
+    let textures = parts.textures.insert(CascadeTextures::new(ctx, config)?);
+    parts.mesh = Some(MeshBuffers::new(ctx, lod)?);
+    parts.targets = Some(Targets::new(ctx, pipelines, targets)?);
+    let map = lod.settings().map_width() as usize;
+    let sizes = SlotSizes {
+        staging: CascadeTextures::staging_size(config),
+        instances: map * map + 1,
+    };
+    let frames = settings.frames_in_flight;
+    parts.slots = Some(Slots::new(ctx, pipelines, textures, sizes, frames)?);
+    Ok(())
+}

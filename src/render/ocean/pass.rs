@@ -1,0 +1,217 @@
+//! The ocean pass: its uniforms (eyes, sun, cascades and their fade distances) and its
+//! recording: at most 16 instanced patch draws, the skirt and the sky, for both eyes with
+//! multiview or for one eye per pass without.
+
+use ash::vk;
+
+use super::mesh::MeshBuffers;
+use super::{FrameInput, RendererSettings};
+use crate::lod::{LodSettings, OceanLod};
+use crate::render::camera::Globals;
+use crate::render::pipeline::{Pipelines, Push};
+use crate::sim::OceanConfig;
+
+/// What the pass's uniforms take from the configuration, fixed at creation.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct PassConstants {
+    grid: u32,
+    cascades: usize,
+    patch_sizes: [f32; 4],
+    fade: [[f32; 4]; 2],
+    /// Vertices per patch side (V + 1 in the thesis's terms: the push constant `grid_v`).
+    pub vertices_per_side: u32,
+}
+
+impl PassConstants {
+    /// For `config`'s cascades drawn on the LOD of `lod`.
+    pub fn new(config: &OceanConfig, lod: &LodSettings) -> Self {
+        let cascades = config.patch_sizes.len();
+        let mut patch_sizes = [1.0; 4];
+        patch_sizes[..cascades].copy_from_slice(&config.patch_sizes);
+        Self {
+            grid: config.grid.n() as u32,
+            cascades,
+            patch_sizes,
+            fade: cascade_fades(lod, &patch_sizes[..cascades]),
+            vertices_per_side: lod.vertices(),
+        }
+    }
+
+    /// This frame's uniform block (std140, mirrored in `shaders/common.glsl`).
+    pub fn globals(&self, input: &FrameInput<'_>, settings: &RendererSettings) -> Globals {
+        let mut g: Globals = bytemuck::Zeroable::zeroed();
+        g.set_eyes(input.eyes);
+        let viewer = (input.eyes[0].position + input.eyes[1].position) * 0.5;
+        g.lod_viewer = viewer.extend(input.surfaces.time() as f32).to_array();
+        g.sun = settings
+            .sun_direction
+            .extend(settings.sun_intensity)
+            .to_array();
+        g.patch_size = self.patch_sizes;
+        g.fade_start = self.fade[0];
+        g.fade_end = self.fade[1];
+        g.params = [
+            self.cascades as f32,
+            self.grid as f32,
+            settings.fog_distance,
+            if settings.sky_marker { 1.0 } else { 0.0 },
+        ];
+        g
+    }
+}
+
+/// Per cascade, the distances (m) where its displacement starts and ends fading from the mesh.
+///
+/// A level-l patch (vertex spacing s_l/V) is split once the viewer is nearer than K·s_l to its
+/// square ([`LodSettings::split_distance`]), so at distance d the mesh spacing is at most about
+/// d/(K·V); with a factor 2 for vertices up to a patch diagonal beyond the square, 2d/(K·V). A
+/// cascade of patch L keeps its displacement while that spacing is under L/8 and is gone where
+/// it reaches L/4, beyond which its shorter waves would alias into noise on the coarser mesh
+/// (the normals, sampled per pixel with mips, still show them).
+fn cascade_fades(st: &LodSettings, patch_sizes: &[f32]) -> [[f32; 4]; 2] {
+    let mut out = [[f32::MAX; 4], [f32::MAX; 4]];
+    let kv = st.preset().split_scale() * st.vertices() as f32;
+    for (c, &l) in patch_sizes.iter().enumerate() {
+        let end = l * kv / 8.0;
+        out[0][c] = 0.5 * end;
+        out[1][c] = end;
+    }
+    out
+}
+
+/// Everything one pass's recording reads.
+pub(super) struct PassRecorder<'a> {
+    pub device: &'a ash::Device,
+    /// A command buffer in the recording state.
+    pub cmd: vk::CommandBuffer,
+    pub pipelines: &'a Pipelines,
+    pub mesh: &'a MeshBuffers,
+    /// The slot's instance buffer (the LOD's instances, then the skirt's).
+    pub instances: vk::Buffer,
+    /// The slot's descriptor set.
+    pub set: vk::DescriptorSet,
+    pub extent: vk::Extent2D,
+    pub vertices_per_side: u32,
+}
+
+impl PassRecorder<'_> {
+    /// Records one render pass into `framebuffer` (both eyes with multiview, else eye `eye`):
+    /// the LOD's patch draws, the skirt (instance `skirt_instance`) and the sky. Returns the
+    /// draws recorded.
+    pub fn record(
+        &self,
+        framebuffer: vk::Framebuffer,
+        eye: u32,
+        lod: &OceanLod,
+        skirt_instance: u32,
+    ) -> u32 {
+        let (d, cmd, p) = (self.device, self.cmd, self.pipelines);
+        let clear = [
+            vk::ClearValue {
+                color: vk::ClearColorValue {
+                    float32: [0.0, 0.0, 0.0, 1.0],
+                },
+            },
+            vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: 0.0,
+                    stencil: 0,
+                },
+            },
+        ];
+        let area = vk::Rect2D {
+            offset: vk::Offset2D { x: 0, y: 0 },
+            extent: self.extent,
+        };
+        let begin = vk::RenderPassBeginInfo::default()
+            .render_pass(p.render_pass)
+            .framebuffer(framebuffer)
+            .render_area(area)
+            .clear_values(&clear);
+        let viewport = vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: self.extent.width as f32,
+            height: self.extent.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        let mut push = Push {
+            eye,
+            mode: 0,
+            inner_count: 0,
+            grid_v: self.vertices_per_side,
+        };
+        let layout = &self.mesh.layout;
+        let mut draws = 0;
+        // SAFETY: `cmd` is recording outside a render pass; the framebuffer, pipeline,
+        // buffers and set are alive and match the render pass; every draw's index range lies
+        // in the index buffer (`MeshLayout`) and its instances in the slot's buffer.
+        unsafe {
+            d.cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
+            d.cmd_set_viewport(cmd, 0, &[viewport]);
+            d.cmd_set_scissor(cmd, 0, &[area]);
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.ocean);
+            d.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                p.layout,
+                0,
+                &[self.set],
+                &[],
+            );
+            let vertices = self.mesh.vertices.raw;
+            d.cmd_bind_vertex_buffers(cmd, 0, &[vertices, self.instances], &[0, 0]);
+            d.cmd_bind_index_buffer(cmd, self.mesh.indices.raw, 0, vk::IndexType::UINT16);
+            self.push(&push);
+            for draw in lod.draws() {
+                let k = draw.stitch.bits() as usize;
+                d.cmd_draw_indexed(
+                    cmd,
+                    layout.patch_index_count[k],
+                    draw.instance_count,
+                    layout.patch_first_index[k],
+                    0,
+                    draw.first_instance,
+                );
+                draws += 1;
+            }
+            let ring = (lod.tree().ring_level() - layout.boundary_level) as usize;
+            push.mode = 1;
+            push.inner_count = layout.skirt_inner[ring];
+            self.push(&push);
+            let offset = layout.skirt_vertex_offset[ring];
+            d.cmd_bind_vertex_buffers(cmd, 0, &[vertices], &[offset]);
+            d.cmd_draw_indexed(
+                cmd,
+                layout.skirt_index_count[ring],
+                1,
+                layout.skirt_first_index[ring],
+                0,
+                skirt_instance,
+            );
+            draws += 1;
+            // The sky: mode 2 of the same pipeline, vertices from gl_VertexIndex (indexed with
+            // 0, 1, 2: lavapipe's multiview drew a non-indexed draw into the first view only).
+            push.mode = 2;
+            self.push(&push);
+            d.cmd_draw_indexed(cmd, 6, 1, layout.sky_first_index, 0, 0);
+            draws += 1;
+            d.cmd_end_render_pass(cmd);
+        }
+        draws
+    }
+
+    fn push(&self, push: &Push) {
+        // SAFETY: `cmd` is recording and the range matches the layout's push constant range.
+        unsafe {
+            self.device.cmd_push_constants(
+                self.cmd,
+                self.pipelines.layout,
+                vk::ShaderStageFlags::VERTEX,
+                0,
+                bytemuck::bytes_of(push),
+            )
+        };
+    }
+}

@@ -1,0 +1,203 @@
+//! The cascade textures: the simulation's displacement (RGBA16F, one layer per cascade) and
+//! normal/foam (RGBA8 with the eq. 55 mip chain) live once on the GPU. Each frame that brings
+//! new surfaces stages them into its slot's buffer and records the copy, ordered after the
+//! previous frame's reads by a barrier in the same queue.
+
+use ash::vk;
+
+use crate::render::barrier::{self, Access, ImageBarrier};
+use crate::render::context::GpuContext;
+use crate::render::error::RenderError;
+use crate::render::memory::{Image, ImageDesc};
+use crate::sim::{pack, OceanConfig, Surfaces};
+
+/// The two texture arrays, their samplers and the copy regions of one upload.
+pub(super) struct CascadeTextures {
+    displacement: Image,
+    normals: Image,
+    disp_sampler: vk::Sampler,
+    normal_sampler: vk::Sampler,
+    /// Copy regions of the last staged upload: the displacement layers first, then every mip
+    /// of every normal/foam layer. Sized at creation.
+    regions: Vec<vk::BufferImageCopy>,
+    /// How many of `regions` are the displacement's.
+    disp_regions: usize,
+}
+
+impl CascadeTextures {
+    /// The images and samplers for `config`'s grid and cascades. Nothing is left behind when a
+    /// step fails.
+    pub fn new(ctx: &GpuContext, config: &OceanConfig) -> Result<Self, RenderError> {
+        let mut this = Self {
+            displacement: Image::null(),
+            normals: Image::null(),
+            disp_sampler: vk::Sampler::null(),
+            normal_sampler: vk::Sampler::null(),
+            regions: Vec::new(),
+            disp_regions: 0,
+        };
+        if let Err(e) = this.create(ctx, config) {
+            this.destroy(ctx);
+            return Err(e);
+        }
+        Ok(this)
+    }
+
+    fn create(&mut self, ctx: &GpuContext, config: &OceanConfig) -> Result<(), RenderError> {
+        let n = config.grid.n() as u32;
+        let cascades = config.patch_sizes.len() as u32;
+        let mips = config.grid.mip_levels();
+        let desc = |format, mips| ImageDesc {
+            format,
+            extent: vk::Extent2D {
+                width: n,
+                height: n,
+            },
+            layers: cascades,
+            mips,
+            usage: vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
+            aspect: vk::ImageAspectFlags::COLOR,
+            transient: false,
+        };
+        self.displacement = Image::new(ctx, desc(vk::Format::R16G16B16A16_SFLOAT, 1))?;
+        self.normals = Image::new(ctx, desc(vk::Format::R8G8B8A8_UNORM, mips))?;
+        self.disp_sampler = sampler(ctx, 0.0)?;
+        self.normal_sampler = sampler(ctx, mips as f32)?;
+        self.regions = Vec::with_capacity(cascades as usize * (1 + mips as usize));
+        Ok(())
+    }
+
+    /// Bytes of one frame's staging copy for `config`.
+    pub fn staging_size(config: &OceanConfig) -> u64 {
+        let n = config.grid.n() as u64;
+        let per_cascade = n * n * 8 + pack::mip_chain_len(config.grid) as u64 * 4;
+        per_cascade * config.patch_sizes.len() as u64
+    }
+
+    /// The descriptor infos of the displacement (binding 1) and normal/foam (binding 2) arrays.
+    pub fn descriptors(&self) -> [vk::DescriptorImageInfo; 2] {
+        let info = |sampler, image_view| vk::DescriptorImageInfo {
+            sampler,
+            image_view,
+            image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        };
+        [
+            info(self.disp_sampler, self.displacement.view),
+            info(self.normal_sampler, self.normals.view),
+        ]
+    }
+
+    /// Copies `surfaces` into `staging` (a slot's mapped buffer of [`Self::staging_size`]
+    /// bytes) and notes the copy regions. No allocation.
+    pub fn stage(&mut self, staging: &mut [u8], surfaces: &Surfaces) {
+        let grid = surfaces.cascades[0].grid;
+        let n = grid.n() as u32;
+        self.regions.clear();
+        let mut offset = 0usize;
+        for (c, s) in surfaces.cascades.iter().enumerate() {
+            let disp: &[u8] = bytemuck::cast_slice(&s.displacement_f16);
+            staging[offset..offset + disp.len()].copy_from_slice(disp);
+            self.regions.push(region(offset, c as u32, 0, n));
+            offset += disp.len();
+        }
+        self.disp_regions = self.regions.len();
+        for (c, s) in surfaces.cascades.iter().enumerate() {
+            let chain: &[u8] = bytemuck::cast_slice(&s.normal_foam);
+            staging[offset..offset + chain.len()].copy_from_slice(chain);
+            for level in 0..grid.mip_levels() {
+                let at = offset + 4 * pack::mip_offset(grid, level);
+                self.regions.push(region(at, c as u32, level, n >> level));
+            }
+            offset += chain.len();
+        }
+    }
+
+    /// Records the copy of the last staged upload from `staging`: shader reads of the previous
+    /// frame → transfer writes (contents discarded: every texel is rewritten) → shader reads.
+    pub fn record_upload(&self, d: &ash::Device, cmd: vk::CommandBuffer, staging: vk::Buffer) {
+        let (disp, norm) = (&self.displacement, &self.normals);
+        let to_copy = [
+            ImageBarrier::colour(
+                disp.raw,
+                disp.layers,
+                Access::ShaderSampled,
+                Access::TransferWrite,
+            )
+            .discard(),
+            ImageBarrier::colour(
+                norm.raw,
+                norm.layers,
+                Access::ShaderSampled,
+                Access::TransferWrite,
+            )
+            .mips(norm.mips)
+            .discard(),
+        ];
+        barrier::record(d, cmd, to_copy, None);
+        let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
+        let (disp_regions, norm_regions) = self.regions.split_at(self.disp_regions);
+        // SAFETY: `cmd` is recording; both images are in TRANSFER_DST_OPTIMAL after the barrier
+        // and every region lies inside the staging buffer and its image (`stage`).
+        unsafe {
+            d.cmd_copy_buffer_to_image(cmd, staging, disp.raw, dst, disp_regions);
+            d.cmd_copy_buffer_to_image(cmd, staging, norm.raw, dst, norm_regions);
+        }
+        let to_read = to_copy.map(|b| ImageBarrier {
+            from: Access::TransferWrite,
+            to: Access::ShaderSampled,
+            contents: barrier::Contents::Keep,
+            ..b
+        });
+        barrier::record(d, cmd, to_read, None);
+    }
+
+    /// Frees what was made. The GPU must be done with it.
+    pub fn destroy(&mut self, ctx: &GpuContext) {
+        // SAFETY: the GPU no longer uses the samplers; null handles are no-ops.
+        unsafe {
+            ctx.device.destroy_sampler(self.disp_sampler, None);
+            ctx.device.destroy_sampler(self.normal_sampler, None);
+        }
+        self.disp_sampler = vk::Sampler::null();
+        self.normal_sampler = vk::Sampler::null();
+        self.displacement.destroy(ctx);
+        self.normals.destroy(ctx);
+    }
+}
+
+fn region(offset: usize, layer: u32, level: u32, side: u32) -> vk::BufferImageCopy {
+    vk::BufferImageCopy {
+        buffer_offset: offset as u64,
+        buffer_row_length: 0,
+        buffer_image_height: 0,
+        image_subresource: vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: level,
+            base_array_layer: layer,
+            layer_count: 1,
+        },
+        image_offset: vk::Offset3D::default(),
+        image_extent: vk::Extent3D {
+            width: side,
+            height: side,
+            depth: 1,
+        },
+    }
+}
+
+/// A trilinear, repeating sampler reading mips 0..=`max_lod`.
+fn sampler(ctx: &GpuContext, max_lod: f32) -> Result<vk::Sampler, RenderError> {
+    let info = vk::SamplerCreateInfo::default()
+        .mag_filter(vk::Filter::LINEAR)
+        .min_filter(vk::Filter::LINEAR)
+        .mipmap_mode(vk::SamplerMipmapMode::LINEAR)
+        .address_mode_u(vk::SamplerAddressMode::REPEAT)
+        .address_mode_v(vk::SamplerAddressMode::REPEAT)
+        .address_mode_w(vk::SamplerAddressMode::REPEAT)
+        .min_lod(0.0)
+        .max_lod(max_lod);
+    // SAFETY: a valid create info on a live device.
+    ctx.create("vkCreateSampler", || unsafe {
+        ctx.device.create_sampler(&info, None)
+    })
+}

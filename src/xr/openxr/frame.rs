@@ -1,0 +1,289 @@
+//! The per-frame half of the backend: events into the [`Lifecycle`], then while the session
+//! runs `xrWaitFrame`, `xrBeginFrame`, `xrLocateViews` at the predicted display time (no
+//! allocation), the controllers, and the [`FrameState`] the app renders.
+
+use std::sync::atomic::Ordering;
+use std::time::Instant;
+
+use glam::{Quat, Vec3};
+use openxr as xr;
+
+use super::error::{check, Call, CallError};
+use super::lifecycle::{self, Action, Event, ExitReason};
+use super::{backend, next_preset, FramePoll, OpenXr, Pending, EXIT_SIGNAL};
+use crate::base::{EyeView, Fov};
+use crate::xr::{FrameState, Tweak, XrError, MAX_TWEAKS};
+
+impl OpenXr {
+    /// One step of [`crate::xr::FrameLoop::begin_frame`] that never waits for the session to
+    /// run: polls the runtime's events, and while the session runs waits for, begins and
+    /// returns the next frame. [`FramePoll::Idle`] when the session is not running (call again
+    /// later: the desktop sleeps [`super::IDLE_POLL`], Android waits for its activity events
+    /// instead); [`FramePoll::Done`] once the session is over.
+    pub fn poll_frame(&mut self) -> Result<FramePoll, XrError> {
+        loop {
+            self.poll_events()?;
+            if EXIT_SIGNAL.swap(false, Ordering::Relaxed) {
+                log::info!("exit requested by signal");
+                self.request_exit();
+            }
+            if let Some(reason) = self.stats.summary.exit {
+                log::info!("leaving: {reason:?}");
+                return if reason.is_clean() {
+                    Ok(FramePoll::Done)
+                } else {
+                    Err(backend(match reason {
+                        ExitReason::SessionLost => {
+                            "the OpenXR session was lost (LOSS_PENDING): the headset was \
+                             disconnected or the runtime stopped it"
+                        }
+                        _ => "the OpenXR runtime went away (instance loss pending)",
+                    }))
+                };
+            }
+            if self.lifecycle.needs_exit_request() && !self.exit_sent {
+                self.exit_sent = true;
+                log::info!("requesting exit");
+                if let Err(e) = self.session().session.request_exit() {
+                    log::warn!("xrRequestExitSession: {e:?} ({e})");
+                }
+            }
+            if !self.lifecycle.running() {
+                return Ok(FramePoll::Idle);
+            }
+            let state = match self.session_mut().waiter.wait() {
+                Ok(s) => s,
+                // STOPPING raced the wait: handle the events first.
+                Err(xr::sys::Result::ERROR_SESSION_NOT_RUNNING) => continue,
+                Err(e) => return Err(CallError::new("xrWaitFrame", e).into()),
+            };
+            self.stats.waited();
+            self.session_mut().stream.begin().call("xrBeginFrame")?;
+            return self.begun(state).map(FramePoll::Frame);
+        }
+    }
+
+    /// The frame just begun: views, input, and the state handed to the app.
+    fn begun(&mut self, state: xr::FrameState) -> Result<FrameState, XrError> {
+        let time = state.predicted_display_time;
+        let display_time = self.stats.display_time(time);
+        let period = (state.predicted_display_period.as_nanos() as f64 * 1e-9).max(1e-4);
+        let located = if state.should_render {
+            self.locate_views(time)?
+        } else {
+            None
+        };
+        let mut tweaks = [None; MAX_TWEAKS];
+        self.handle_input(located.as_ref(), period as f32, &mut tweaks)?;
+        let blank_view = xr::View {
+            pose: xr::Posef::IDENTITY,
+            fov: xr::Fovf {
+                angle_left: -0.7,
+                angle_right: 0.7,
+                angle_up: 0.7,
+                angle_down: -0.7,
+            },
+        };
+        let raw_views = located.unwrap_or([blank_view; 2]);
+        let views = raw_views.map(|v| {
+            let (position, orientation) = self
+                .locomotion
+                .to_world(vec3(v.pose.position), quat(v.pose.orientation));
+            EyeView {
+                position,
+                orientation,
+                fov: fov(v.fov),
+            }
+        });
+        let should_render = located.is_some();
+        if !should_render {
+            self.stats.summary.frames_not_rendered += 1;
+        }
+        self.pending = Some(Pending {
+            time,
+            views: raw_views,
+            acquired: false,
+            released: false,
+            started: Instant::now(),
+        });
+        let frame = FrameState {
+            index: self.index,
+            predicted_display_time: display_time,
+            period,
+            views,
+            should_render,
+            tweaks,
+        };
+        self.index += 1;
+        Ok(frame)
+    }
+
+    /// Polls every queued event into the lifecycle and carries out what it says.
+    fn poll_events(&mut self) -> Result<(), XrError> {
+        loop {
+            let event = match self.instance.poll_event(&mut self.event_buffer) {
+                Ok(Some(e)) => e,
+                Ok(None) => return Ok(()),
+                Err(e) => return Err(CallError::new("xrPollEvent", e).into()),
+            };
+            let ev = match event {
+                xr::Event::SessionStateChanged(s) => {
+                    log::info!("session state: {}", lifecycle::state_name(s.state()));
+                    Event::State(s.state())
+                }
+                xr::Event::InstanceLossPending(_) => {
+                    log::warn!("the OpenXR instance is about to be lost");
+                    Event::InstanceLossPending
+                }
+                xr::Event::EventsLost(l) => {
+                    log::warn!("{} OpenXR events were lost", l.lost_event_count());
+                    continue;
+                }
+                xr::Event::InteractionProfileChanged(_) => {
+                    log::info!("interaction profile changed");
+                    continue;
+                }
+                xr::Event::ReferenceSpaceChangePending(_) => {
+                    log::info!("reference space change pending (recentre)");
+                    continue;
+                }
+                xr::Event::DisplayRefreshRateChangedFB(r) => {
+                    log::info!(
+                        "display refresh rate {} -> {} Hz",
+                        r.from_display_refresh_rate(),
+                        r.to_display_refresh_rate()
+                    );
+                    continue;
+                }
+                _ => continue,
+            };
+            let action = self.lifecycle.on_event(ev);
+            self.apply(action)?;
+        }
+    }
+
+    fn apply(&mut self, action: Action) -> Result<(), XrError> {
+        match action {
+            Action::None => {}
+            Action::Begin => {
+                self.session()
+                    .session
+                    .begin(xr::ViewConfigurationType::PRIMARY_STEREO)
+                    .call("xrBeginSession")?;
+                log::info!("session begun");
+            }
+            Action::End => {
+                self.session().session.end().call("xrEndSession")?;
+                log::info!("session ended");
+            }
+            Action::Exit(reason) => {
+                self.stats.summary.exit = Some(reason);
+            }
+        }
+        Ok(())
+    }
+
+    /// Locates both eyes in the tracking space at `time` without allocating.
+    fn locate_views(&self, time: xr::Time) -> Result<Option<[xr::View; 2]>, XrError> {
+        let s = self.session();
+        let info = xr::sys::ViewLocateInfo {
+            ty: xr::sys::ViewLocateInfo::TYPE,
+            next: std::ptr::null(),
+            view_configuration_type: xr::ViewConfigurationType::PRIMARY_STEREO,
+            display_time: time,
+            space: s.space.as_raw(),
+        };
+        let mut state = xr::sys::ViewState {
+            ty: xr::sys::ViewState::TYPE,
+            next: std::ptr::null_mut(),
+            view_state_flags: xr::ViewStateFlags::EMPTY,
+        };
+        let blank = xr::sys::View {
+            ty: xr::sys::View::TYPE,
+            next: std::ptr::null_mut(),
+            pose: xr::Posef::IDENTITY,
+            fov: xr::Fovf::default(),
+        };
+        let mut raw = [blank; 2];
+        let mut count = 0;
+        // SAFETY: valid session and space, and an output array of the stated capacity.
+        let r = unsafe {
+            (self.instance.fp().locate_views)(
+                s.session.as_raw(),
+                &info,
+                &mut state,
+                2,
+                &mut count,
+                raw.as_mut_ptr(),
+            )
+        };
+        check(r).call("xrLocateViews")?;
+        let valid = xr::ViewStateFlags::ORIENTATION_VALID | xr::ViewStateFlags::POSITION_VALID;
+        if count != 2 || !state.view_state_flags.contains(valid) {
+            return Ok(None);
+        }
+        Ok(Some(raw.map(|v| xr::View {
+            pose: v.pose,
+            fov: v.fov,
+        })))
+    }
+
+    /// Reads the controllers, moves the user and collects the tweaks of this frame.
+    fn handle_input(
+        &mut self,
+        views: Option<&[xr::View; 2]>,
+        dt: f32,
+        tweaks: &mut [Option<Tweak>; MAX_TWEAKS],
+    ) -> Result<(), XrError> {
+        if !self.lifecycle.focused() {
+            return Ok(());
+        }
+        let s = self.session_mut();
+        let frame = match s.input.read(&s.session, dt) {
+            Ok(f) => f,
+            Err(xr::sys::Result::SESSION_NOT_FOCUSED) => return Ok(()),
+            Err(e) => return Err(CallError::new("xrSyncActions", e).into()),
+        };
+        if let Some(v) = views {
+            let (p, q) = head_pose(v);
+            if self.locomotion.update(p, q, frame.glide, frame.turn_x, dt) {
+                log::debug!("snap turn: yaw {:.0}°", self.locomotion.yaw().to_degrees());
+            }
+        }
+        let mut n = 0;
+        if frame.next_preset {
+            self.preset = next_preset(self.preset);
+            tweaks[n] = Some(Tweak::Preset(self.preset));
+            n += 1;
+            let s = self.session();
+            s.input.tick(&s.session);
+        }
+        if frame.wind_steps != 0 {
+            tweaks[n] = Some(Tweak::WindSpeed(frame.wind_steps as f32));
+        }
+        Ok(())
+    }
+}
+
+/// The head pose: midway between the eyes, with the left eye's orientation.
+fn head_pose(v: &[xr::View; 2]) -> (Vec3, Quat) {
+    let p = (vec3(v[0].pose.position) + vec3(v[1].pose.position)) * 0.5;
+    (p, quat(v[0].pose.orientation))
+}
+
+fn vec3(v: xr::Vector3f) -> Vec3 {
+    Vec3::new(v.x, v.y, v.z)
+}
+
+fn quat(q: xr::Quaternionf) -> Quat {
+    Quat::from_xyzw(q.x, q.y, q.z, q.w).normalize()
+}
+
+fn fov(f: xr::Fovf) -> Fov {
+    Fov {
+        angle_left: f.angle_left,
+        angle_right: f.angle_right,
+        angle_up: f.angle_up,
+        angle_down: f.angle_down,
+    }
+}

@@ -1,0 +1,72 @@
+//! The composition layers a frame ends with: one projection layer whose two views are the
+//! layers of the colour swapchain, posed where they were rendered from, with the depth
+//! swapchain's layers chained (`XR_KHR_composition_layer_depth`) when depth is submitted; or
+//! no layer when the frame was not rendered.
+
+use ash::vk;
+use openxr as xr;
+
+use super::session::Session;
+
+/// `xrEndFrame` for a frame displayed at `time`: with the projection layer of `views` when
+/// `rendered`, with no layer otherwise.
+pub(super) fn end_frame(
+    session: &mut Session,
+    time: xr::Time,
+    views: &[xr::View; 2],
+    extent: vk::Extent2D,
+    rendered: bool,
+) -> Result<(), xr::sys::Result> {
+    if !rendered {
+        return session
+            .stream
+            .end(time, xr::EnvironmentBlendMode::OPAQUE, &[]);
+    }
+    let rect = xr::Rect2Di {
+        offset: xr::Offset2Di { x: 0, y: 0 },
+        extent: xr::Extent2Di {
+            width: extent.width as i32,
+            height: extent.height as i32,
+        },
+    };
+    // Reversed-Z with an infinite far plane: depth 0 is infinitely far, 1 is the near plane.
+    let depth_info = session.depth.as_ref().map(|d| {
+        [0u32, 1].map(|layer| xr::sys::CompositionLayerDepthInfoKHR {
+            ty: xr::sys::CompositionLayerDepthInfoKHR::TYPE,
+            next: std::ptr::null(),
+            sub_image: xr::sys::SwapchainSubImage {
+                swapchain: d.handle.as_raw(),
+                image_rect: rect,
+                image_array_index: layer,
+            },
+            min_depth: 0.0,
+            max_depth: 1.0,
+            near_z: f32::INFINITY,
+            far_z: crate::render::camera::NEAR,
+        })
+    });
+    let projection_views = [0usize, 1].map(|i| {
+        let v = xr::CompositionLayerProjectionView::new()
+            .pose(views[i].pose)
+            .fov(views[i].fov)
+            .sub_image(
+                xr::SwapchainSubImage::new()
+                    .swapchain(&session.colour.handle)
+                    .image_array_index(i as u32)
+                    .image_rect(rect),
+            );
+        let mut raw = v.into_raw();
+        if let Some(d) = depth_info.as_ref() {
+            raw.next = &d[i] as *const _ as *const std::ffi::c_void;
+        }
+        // SAFETY: `raw` came from a valid view; `next` points at a depth info that lives until
+        // `end` below returns.
+        unsafe { xr::CompositionLayerProjectionView::from_raw(raw) }
+    });
+    let layer = xr::CompositionLayerProjection::new()
+        .space(&session.space)
+        .views(&projection_views);
+    session
+        .stream
+        .end(time, xr::EnvironmentBlendMode::OPAQUE, &[&layer])
+}

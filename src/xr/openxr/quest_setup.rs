@@ -1,0 +1,119 @@
+//! Start-up of the Quest extensions, each only when the runtime lists it: fixed foveation on
+//! the colour swapchain (`XR_FB_foveation` + `XR_FB_swapchain_update_state`), the display
+//! refresh rate (`XR_FB_display_refresh_rate`, with the governor of [`super::quest`]) and the
+//! CPU/GPU performance levels (`XR_EXT_performance_settings`). A missing or failing extension
+//! is logged and skipped: none of them is needed to show the ocean.
+
+use openxr as xr;
+
+use super::error::check;
+use super::quest::{Foveation, PerfLevel, RefreshGovernor};
+use super::session::Session;
+
+/// What the Quest extensions were started with.
+pub(super) struct QuestSettings {
+    /// Fixed foveation level.
+    pub foveation: Foveation,
+    /// Highest refresh rate to ask for (Hz).
+    pub max_refresh_rate: f32,
+    /// CPU and GPU levels.
+    pub perf_levels: (PerfLevel, PerfLevel),
+}
+
+/// Starts every extension the runtime offers on `session`; returns the refresh-rate governor
+/// when the rate can be chosen.
+pub(super) fn start(
+    instance: &xr::Instance,
+    session: &mut Session,
+    settings: &QuestSettings,
+) -> Option<RefreshGovernor> {
+    session.foveation = foveation(instance, session, settings.foveation);
+    perf_levels(instance, &session.session, settings.perf_levels);
+    refresh_rate(instance, &session.session, settings.max_refresh_rate)
+}
+
+/// Fixed foveation on the colour swapchain, when the runtime has both extensions.
+fn foveation(
+    instance: &xr::Instance,
+    session: &Session,
+    level: Foveation,
+) -> Option<xr::FoveationProfileFB> {
+    let exts = instance.exts();
+    let update = exts.fb_swapchain_update_state.as_ref()?;
+    exts.fb_foveation.as_ref()?;
+    let profile = session
+        .session
+        .create_foveation_profile(Some(xr::FoveationLevelProfile {
+            level: level.level(),
+            vertical_offset: 0.0,
+            dynamic: xr::FoveationDynamicFB::DISABLED,
+        }))
+        .map_err(|e| log::warn!("xrCreateFoveationProfileFB: {e:?} ({e})"))
+        .ok()?;
+    let state = xr::sys::SwapchainStateFoveationFB {
+        ty: xr::sys::SwapchainStateFoveationFB::TYPE,
+        next: std::ptr::null_mut(),
+        flags: xr::sys::SwapchainStateFoveationFlagsFB::EMPTY,
+        profile: profile.as_raw(),
+    };
+    // SAFETY: a valid swapchain and a state struct of the extension that outlives the call.
+    let r = unsafe {
+        (update.update_swapchain)(
+            session.colour.handle.as_raw(),
+            &state as *const _ as *const xr::sys::SwapchainStateBaseHeaderFB,
+        )
+    };
+    if let Err(r) = check(r) {
+        log::warn!("xrUpdateSwapchainFB (foveation): {r:?} ({r})");
+        return None;
+    }
+    log::info!("fixed foveation: {level:?}");
+    Some(profile)
+}
+
+/// CPU and GPU performance levels.
+fn perf_levels(
+    instance: &xr::Instance,
+    session: &xr::Session<xr::Vulkan>,
+    (cpu, gpu): (PerfLevel, PerfLevel),
+) {
+    let Some(perf) = instance.exts().ext_performance_settings.as_ref() else {
+        return;
+    };
+    for (domain, level, name) in [
+        (xr::sys::PerfSettingsDomainEXT::CPU, cpu, "CPU"),
+        (xr::sys::PerfSettingsDomainEXT::GPU, gpu, "GPU"),
+    ] {
+        // SAFETY: a valid session and enum values of the extension.
+        let r = unsafe {
+            (perf.perf_settings_set_performance_level)(session.as_raw(), domain, level.raw())
+        };
+        match check(r) {
+            Err(r) => log::warn!("xrPerfSettingsSetPerformanceLevelEXT({name}): {r:?} ({r})"),
+            Ok(()) => log::info!("{name} performance level: {level:?}"),
+        }
+    }
+}
+
+/// Asks for the highest offered refresh rate at or under `cap`; the governor steps down from
+/// there when frames miss their budget.
+fn refresh_rate(
+    instance: &xr::Instance,
+    session: &xr::Session<xr::Vulkan>,
+    cap: f32,
+) -> Option<RefreshGovernor> {
+    instance.exts().fb_display_refresh_rate.as_ref()?;
+    let rates = session
+        .enumerate_display_refresh_rates()
+        .map_err(|e| log::warn!("xrEnumerateDisplayRefreshRatesFB: {e:?} ({e})"))
+        .ok()?;
+    let Some(g) = RefreshGovernor::new(&rates, cap) else {
+        log::warn!("no display refresh rate at or under {cap} Hz in {rates:?}");
+        return None;
+    };
+    log::info!("display refresh rates {rates:?}: asking for {}", g.rate());
+    if let Err(e) = session.request_display_refresh_rate(g.rate()) {
+        log::warn!("xrRequestDisplayRefreshRateFB: {e:?} ({e})");
+    }
+    Some(g)
+}
