@@ -119,7 +119,7 @@ fn frame_times_on_lavapipe() {
             "\"{}\": {{\"draws\": {}, \"timings_ms\": {}}}{sep}",
             s.name,
             s.draws,
-            s.times.to_json().trim_end()
+            serde_json::to_string(&s.times).unwrap()
         );
     }
     json.push_str("}\n");

@@ -5,7 +5,6 @@
 pub mod live;
 pub mod timing;
 
-use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::base::ParamError;
@@ -137,233 +136,259 @@ pub fn run(
     opts: &RunOptions,
     hooks: &mut dyn RunHooks,
 ) -> Result<RunReport, AppError> {
-    let mut lod = OceanLod::new(opts.lod);
-    let mut sim = Simulation::new(opts.ocean.clone(), opts.threads)?;
-    let mut renderer =
-        OceanRenderer::new(xr.gpu(), &opts.ocean, &lod, xr.targets(), opts.renderer)?;
-    let mut readback = if opts.capture.is_empty() {
-        None
-    } else {
-        Some(Readback::new(xr.gpu(), xr.targets().extent)?)
-    };
     let errors_before = xr.gpu().validation_errors();
-    let result = frames(
-        xr,
-        opts,
-        &mut lod,
-        &mut sim,
-        &mut renderer,
-        &mut readback,
-        hooks,
-    );
-    xr.gpu().wait_idle();
-    renderer.destroy(xr.gpu());
-    if let Some(r) = readback.as_mut() {
-        r.destroy(xr.gpu());
-    }
-    let mut report = result?;
+    let mut frames = Frames::new(xr, opts, hooks)?;
+    let result = loop {
+        match frames.step() {
+            Ok(true) => {}
+            Ok(false) => break Ok(()),
+            Err(e) => break Err(e),
+        }
+    };
+    let (mut report, xr) = frames.finish();
+    result?;
     report.validation_errors = xr.gpu().validation_errors() - errors_before;
     Ok(report)
 }
 
-#[allow(clippy::too_many_arguments)]
-fn frames(
-    xr: &mut dyn FrameLoop,
-    opts: &RunOptions,
-    lod: &mut OceanLod,
-    sim: &mut Simulation,
-    renderer: &mut OceanRenderer,
-    readback: &mut Option<Readback>,
-    hooks: &mut dyn RunHooks,
-) -> Result<RunReport, AppError> {
-    let mut times = FrameTimes::with_capacity(16_384);
-    let mut max_draws = 0;
-    let mut count = 0u64;
-    let mut started = false;
-    let mut recent = live::RecentFrames::default();
-    let mut stats_text = String::with_capacity(256);
-    let mut stats_at = Instant::now();
-    loop {
-        let start = Instant::now();
-        let Some(frame) = xr.begin_frame()? else {
-            break;
+/// The frame loop's state: the layers' objects for this run and what it measured so far.
+struct Frames<'a> {
+    xr: &'a mut dyn FrameLoop,
+    opts: &'a RunOptions,
+    hooks: &'a mut dyn RunHooks,
+    lod: OceanLod,
+    sim: Simulation,
+    renderer: OceanRenderer,
+    readback: Option<Readback>,
+    /// Whether the first simulation step was started.
+    started: bool,
+    stats: RunStats,
+}
+
+/// What the loop measures: the timings, draws and the window's statistics line.
+struct RunStats {
+    times: FrameTimes,
+    max_draws: u32,
+    frames: u64,
+    recent: live::RecentFrames,
+    text: String,
+    shown_at: Instant,
+}
+
+/// What one frame measured on the way.
+struct FrameCost {
+    start: Instant,
+    sim_wait: std::time::Duration,
+    sim_step: std::time::Duration,
+    lod: std::time::Duration,
+}
+
+impl<'a> Frames<'a> {
+    /// The LOD, the simulation and the renderer for `opts` on `xr`'s device.
+    fn new(
+        xr: &'a mut dyn FrameLoop,
+        opts: &'a RunOptions,
+        hooks: &'a mut dyn RunHooks,
+    ) -> Result<Self, AppError> {
+        let lod = OceanLod::new(opts.lod);
+        let sim = Simulation::new(opts.ocean.clone(), opts.threads)?;
+        let mut renderer =
+            OceanRenderer::new(xr.gpu(), &opts.ocean, &lod, xr.targets(), opts.renderer)?;
+        let readback = if opts.capture.is_empty() {
+            None
+        } else {
+            match Readback::new(xr.gpu(), xr.targets().extent) {
+                Ok(r) => Some(r),
+                Err(e) => {
+                    renderer.destroy(xr.gpu());
+                    return Err(e.into());
+                }
+            }
         };
-        if !started {
-            sim.begin_step(frame.predicted_display_time);
-            started = true;
+        Ok(Self {
+            xr,
+            opts,
+            hooks,
+            lod,
+            sim,
+            renderer,
+            readback,
+            started: false,
+            stats: RunStats {
+                times: FrameTimes::with_capacity(16_384),
+                max_draws: 0,
+                frames: 0,
+                recent: live::RecentFrames::default(),
+                text: String::with_capacity(256),
+                shown_at: Instant::now(),
+            },
+        })
+    }
+
+    /// One frame: wait for it, hand over the simulation, apply tweaks, update the LOD, render
+    /// and end it. False once the backend ended the session.
+    fn step(&mut self) -> Result<bool, AppError> {
+        let start = Instant::now();
+        let Some(frame) = self.xr.begin_frame()? else {
+            return Ok(false);
+        };
+        if !self.started {
+            self.sim.begin_step(frame.predicted_display_time);
+            self.started = true;
         }
         // The step for this frame's display time was started a frame ago.
         let wait = Instant::now();
-        sim.end_step();
+        self.sim.end_step();
         let sim_wait = wait.elapsed();
-        let sim_step = sim.last_step_time();
-        // Live changes (window keys) apply from the step started next.
+        let sim_step = self.sim.last_step_time();
+        // Live changes (window keys, controllers) apply from the step started next.
         for &tweak in frame.tweaks.iter().flatten() {
             match tweak {
-                Tweak::Preset(p) => switch_preset(xr, sim, lod, renderer, p)?,
-                t => live::apply_wave_tweak(sim, t),
+                Tweak::Preset(p) => self.switch_preset(p)?,
+                t => live::apply_wave_tweak(&mut self.sim, t),
             }
         }
-        sim.begin_step(frame.predicted_display_time + frame.period);
-        let surfaces = sim.surfaces();
-
+        self.sim
+            .begin_step(frame.predicted_display_time + frame.period);
         let t_lod = Instant::now();
+        self.update_lod(&frame)?;
+        let cost = FrameCost {
+            start,
+            sim_wait,
+            sim_step,
+            lod: t_lod.elapsed(),
+        };
+        // A frame the runtime does not want shown is not drawn, nor are its images taken.
+        let report = if frame.should_render {
+            Some(self.render(&frame)?)
+        } else {
+            None
+        };
+        self.xr.end_frame(&frame)?;
+        self.hooks.frame_done(&frame);
+        self.stats.frames += 1;
+        if let Some(r) = report {
+            self.record(&frame, &r, &cost);
+        }
+        if self.stats.shown_at.elapsed().as_secs_f64() >= 0.5 {
+            self.stats.shown_at = Instant::now();
+            self.stats.recent.summarise(
+                &mut self.stats.text,
+                self.lod.settings().preset(),
+                &self.sim.config().waves,
+            );
+            self.xr.show_stats(&self.stats.text);
+        }
+        Ok(true)
+    }
+
+    /// The LOD for both eyes of `frame`, padded by the shown surfaces' displacement.
+    fn update_lod(&mut self, frame: &FrameState) -> Result<(), AppError> {
         let stereo = StereoFrustum::new(frame.views[0], frame.views[1])?;
-        lod.update(&lod::FrameInput {
+        let surfaces = self.sim.surfaces();
+        self.lod.update(&lod::FrameInput {
             viewer: stereo.centre(),
             culling: Some(&stereo),
             max_displacement: MaxDisplacement::new(surfaces.max_displacement())?,
         })?;
-        let lod_time = t_lod.elapsed();
+        Ok(())
+    }
 
-        // A frame the runtime does not want shown is not drawn, nor are its images taken.
-        let mut report = None;
-        let mut drawn = None;
-        if frame.should_render {
-            let image = xr.acquire_image()?;
-            report = Some(renderer.render(
-                xr.gpu(),
-                &render::FrameInput {
-                    image: image.colour,
-                    depth: image.depth,
-                    eyes: &frame.views,
-                    lod,
-                    surfaces,
-                },
-            )?);
-            xr.release_image()?;
-            drawn = Some(image.colour);
-        }
-        if let (Some(rb), Some(image)) = (readback.as_mut(), drawn) {
-            if opts.capture.contains(&frame.index) {
-                let extent = xr.targets().extent;
-                let image_handle = xr.targets().images[image as usize];
-                let eyes = rb.read(xr.gpu(), image_handle)?;
-                hooks.capture(&Capture {
+    /// Renders `frame` into the backend's next image and hands captured frames to the hooks.
+    fn render(&mut self, frame: &FrameState) -> Result<render::FrameReport, AppError> {
+        let image = self.xr.acquire_image()?;
+        let report = self.renderer.render(
+            self.xr.gpu(),
+            &render::FrameInput {
+                image: image.colour,
+                depth: image.depth,
+                eyes: &frame.views,
+                lod: &self.lod,
+                surfaces: self.sim.surfaces(),
+            },
+        )?;
+        self.xr.release_image()?;
+        if let Some(rb) = self.readback.as_mut() {
+            if self.opts.capture.contains(&frame.index) {
+                let extent = self.xr.targets().extent;
+                let image_handle = self.xr.targets().images[image.colour as usize];
+                let eyes = rb.read(self.xr.gpu(), image_handle)?;
+                self.hooks.capture(&Capture {
                     frame: frame.index,
-                    state: &frame,
+                    state: frame,
                     width: extent.width,
                     height: extent.height,
                     eyes,
                 })?;
             }
         }
-        xr.end_frame(&frame)?;
-        hooks.frame_done(&frame);
-        count += 1;
-        if let Some(r) = report {
+        Ok(report)
+    }
+
+    /// Files a rendered frame's timings (after the warm-up) and its GPU time.
+    fn record(&mut self, frame: &FrameState, r: &render::FrameReport, cost: &FrameCost) {
+        if let Some(g) = r.gpu_pass {
+            self.xr.report_gpu_time(g);
+        }
+        let s = &mut self.stats;
+        s.max_draws = s.max_draws.max(r.draws);
+        let total = cost.start.elapsed();
+        if frame.index >= self.opts.warmup {
+            s.times.push(Timing::FrameTotal, total);
+            s.times.push(Timing::SimStep, cost.sim_step);
+            s.times.push(Timing::SimWait, cost.sim_wait);
+            s.times.push(Timing::Lod, cost.lod);
+            s.times.push(Timing::Record, r.record);
+            s.times.push(Timing::Submit, r.submit);
             if let Some(g) = r.gpu_pass {
-                xr.report_gpu_time(g);
+                s.times.push(Timing::GpuPass, g);
             }
-            max_draws = max_draws.max(r.draws);
-            if frame.index >= opts.warmup {
-                times.push(Timing::FrameTotal, start.elapsed());
-                times.push(Timing::SimStep, sim_step);
-                times.push(Timing::SimWait, sim_wait);
-                times.push(Timing::Lod, lod_time);
-                times.push(Timing::Record, r.record);
-                times.push(Timing::Submit, r.submit);
-                if let Some(g) = r.gpu_pass {
-                    times.push(Timing::GpuPass, g);
-                }
-            }
-            recent.push(start.elapsed(), sim_step, r.gpu_pass, r.draws);
         }
-        if stats_at.elapsed().as_secs_f64() >= 0.5 {
-            stats_at = Instant::now();
-            recent.summarise(
-                &mut stats_text,
-                lod.settings().preset(),
-                &sim.config().waves,
-            );
-            xr.show_stats(&stats_text);
+        s.recent.push(total, cost.sim_step, r.gpu_pass, r.draws);
+    }
+
+    /// Waits for the GPU, frees the renderer's objects and returns the report (validation
+    /// errors not yet counted) and the backend.
+    fn finish(mut self) -> (RunReport, &'a mut dyn FrameLoop) {
+        let gpu = self.xr.gpu();
+        gpu.wait_idle();
+        self.renderer.destroy(gpu);
+        if let Some(r) = self.readback.as_mut() {
+            r.destroy(gpu);
         }
+        let report = RunReport {
+            frames: self.stats.frames,
+            times: self.stats.times,
+            max_draws: self.stats.max_draws,
+            validation_errors: 0,
+            device: gpu.device_name.clone(),
+        };
+        (report, self.xr)
     }
-    Ok(RunReport {
-        frames: count,
-        times,
-        max_draws,
-        validation_errors: 0,
-        device: xr.gpu().device_name.clone(),
-    })
-}
 
-/// Rebuilds the LOD and the renderer for `preset` (same ocean size). Waits for the GPU first:
-/// a user's switch, not the steady state.
-fn switch_preset(
-    xr: &mut dyn FrameLoop,
-    sim: &Simulation,
-    lod: &mut OceanLod,
-    renderer: &mut OceanRenderer,
-    preset: QualityPreset,
-) -> Result<(), AppError> {
-    if lod.settings().preset() == preset {
-        log::info!("quality preset is already {}", preset.name());
-        return Ok(());
+    /// Rebuilds the LOD and the renderer for `preset` (same ocean size). Waits for the GPU first:
+    /// a user's switch, not the steady state.
+    fn switch_preset(&mut self, preset: QualityPreset) -> Result<(), AppError> {
+        let (xr, sim, lod, renderer) =
+            (&mut *self.xr, &self.sim, &mut self.lod, &mut self.renderer);
+        if lod.settings().preset() == preset {
+            log::info!("quality preset is already {}", preset.name());
+            return Ok(());
+        }
+        let size = OceanSize::new(lod.settings().size())?;
+        let new_lod = OceanLod::new(LodSettings::new(preset, size));
+        xr.gpu().wait_idle();
+        let new_renderer = OceanRenderer::new(
+            xr.gpu(),
+            sim.config(),
+            &new_lod,
+            xr.targets(),
+            *renderer.settings(),
+        )?;
+        let mut old = std::mem::replace(renderer, new_renderer);
+        old.destroy(xr.gpu());
+        *lod = new_lod;
+        log::info!("quality preset: {}", preset.name());
+        Ok(())
     }
-    let size = OceanSize::new(lod.settings().size())?;
-    let new_lod = OceanLod::new(LodSettings::new(preset, size));
-    xr.gpu().wait_idle();
-    let new_renderer = OceanRenderer::new(
-        xr.gpu(),
-        sim.config(),
-        &new_lod,
-        xr.targets(),
-        *renderer.settings(),
-    )?;
-    let mut old = std::mem::replace(renderer, new_renderer);
-    old.destroy(xr.gpu());
-    *lod = new_lod;
-    log::info!("quality preset: {}", preset.name());
-    Ok(())
-}
-
-/// Checks `dir` can hold output files: creates it and writes and removes a probe file, so an
-/// unwritable path fails before any work is done.
-pub fn ensure_writable_dir(dir: &Path) -> Result<(), AppError> {
-    std::fs::create_dir_all(dir).map_err(|e| {
-        AppError::Io(format!(
-            "cannot create output directory {}: {e}",
-            dir.display()
-        ))
-    })?;
-    let probe = dir.join(".vr-ocean-write-test");
-    std::fs::write(&probe, b"").map_err(|e| {
-        AppError::Io(format!(
-            "output directory {} is not writable: {e}",
-            dir.display()
-        ))
-    })?;
-    let _ = std::fs::remove_file(probe);
-    Ok(())
-}
-
-/// Writes `bytes` to `path` atomically (a temporary file renamed into place).
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), AppError> {
-    let tmp = tmp_path(path);
-    std::fs::write(&tmp, bytes)
-        .and_then(|_| std::fs::rename(&tmp, path))
-        .map_err(|e| AppError::Io(format!("cannot write {}: {e}", path.display())))
-}
-
-/// Saves one eye as an sRGB PNG, atomically.
-pub fn save_png(path: &Path, width: u32, height: u32, rgba: &[u8]) -> Result<(), AppError> {
-    let tmp = tmp_path(path);
-    image::save_buffer_with_format(
-        &tmp,
-        rgba,
-        width,
-        height,
-        image::ExtendedColorType::Rgba8,
-        image::ImageFormat::Png,
-    )
-    .map_err(|e| AppError::Io(format!("cannot write {}: {e}", path.display())))?;
-    std::fs::rename(&tmp, path)
-        .map_err(|e| AppError::Io(format!("cannot write {}: {e}", path.display())))
-}
-
-fn tmp_path(path: &Path) -> PathBuf {
-    let mut name = path.file_name().unwrap_or_default().to_os_string();
-    name.push(".tmp");
-    path.with_file_name(name)
 }

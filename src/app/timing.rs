@@ -1,7 +1,6 @@
 //! Frame-time samples and their percentiles, collected without allocating per frame and
 //! written as `frame_times.json`.
 
-use std::fmt::Write as _;
 use std::time::Duration;
 
 /// The timings each frame records.
@@ -44,7 +43,7 @@ pub struct FrameTimes {
 }
 
 /// Percentiles of one timing (ms).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Percentiles {
     /// Median.
     pub p50: f64,
@@ -120,20 +119,17 @@ impl FrameTimes {
         use Timing::*;
         [FrameTotal, SimStep, SimWait, Lod, Record, Submit, GpuPass].map(|t| self.percentiles(t))
     }
+}
 
-    /// The JSON object `{"frame_total": {"p50": …, "p95": …, "p99": …, "samples": …}, …}`.
-    pub fn to_json(&self) -> String {
-        let mut s = String::from("{");
-        for (i, (name, p)) in TIMINGS.iter().zip(self.all()).enumerate() {
-            let sep = if i == 0 { "" } else { "," };
-            let _ = write!(
-                s,
-                "{sep}\n  \"{name}\": {{\"p50\": {:.4}, \"p95\": {:.4}, \"p99\": {:.4}, \"samples\": {}}}",
-                p.p50, p.p95, p.p99, p.samples
-            );
+/// Serialized as `{"frame_total": {"p50": …, "p95": …, "p99": …, "samples": …}, …}` (ms).
+impl serde::Serialize for FrameTimes {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut map = s.serialize_map(Some(TIMINGS.len()))?;
+        for (name, p) in TIMINGS.iter().zip(self.all()) {
+            map.serialize_entry(name, &p)?;
         }
-        s.push_str("\n}\n");
-        s
+        map.end()
     }
 }
 
@@ -154,6 +150,8 @@ mod tests {
         }
         assert_eq!(t.percentiles(Timing::Lod).p50, 1000.0);
         assert_eq!(t.percentiles(Timing::GpuPass), Percentiles::default());
-        assert!(t.to_json().contains("\"lod\": {\"p50\": 1000.0000"));
+        let json = serde_json::to_value(&t).unwrap();
+        assert_eq!(json["lod"]["p50"], 1000.0);
+        assert_eq!(json["lod"]["samples"], 100);
     }
 }

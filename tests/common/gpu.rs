@@ -4,6 +4,7 @@
 
 use glam::Vec3;
 use vr_ocean::app::{self, Capture, RunHooks, RunOptions, RunReport};
+use vr_ocean::export;
 use vr_ocean::lod::{LodSettings, OceanSize, QualityPreset};
 use vr_ocean::render::{ContextOptions, RendererSettings, StereoMode, Validation};
 use vr_ocean::sim::OceanConfig;
@@ -141,7 +142,7 @@ impl Frame {
             }
         }
         let path = super::scratch_path(&format!("{name}-frame{}.png", self.index));
-        app::save_png(&path, 2 * self.width, self.height, &both).unwrap();
+        export::save_png(&path, 2 * self.width, self.height, &both).unwrap();
         path
     }
 }

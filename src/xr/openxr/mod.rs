@@ -11,12 +11,14 @@
 //!   views located without allocating at the predicted display time (also the simulation
 //!   time), the controllers;
 //! - [`layers`]: `xrEndFrame` with the projection layer (none when the frame is not shown);
-//! - [`stats`]: frame statistics and the session [`Summary`].
+//! - [`stats`]: frame statistics and the session [`Summary`];
+//! - [`exit_signal`]: Ctrl-C and SIGTERM end the session cleanly.
 //!
 //! Every failed call is a [`CallError`] (call and result code); losing the runtime is worded in
 //! one place ([`error`]).
 
 pub mod error;
+mod exit_signal;
 mod frame;
 pub mod input;
 mod instance;
@@ -29,7 +31,6 @@ mod stats;
 pub mod swapchain;
 pub mod vulkan;
 
-use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
 use ash::vk;
@@ -38,6 +39,7 @@ use openxr as xr;
 
 use self::error::Call;
 pub use self::error::CallError;
+pub use self::exit_signal::{install_exit_signal_handler, EXIT_SIGNAL};
 use self::lifecycle::{Action, Lifecycle};
 use self::quest::{Foveation, Headset, PerfLevel, RefreshGovernor};
 use self::quest_setup::QuestSettings;
@@ -86,10 +88,6 @@ impl Default for OpenXrOptions {
         }
     }
 }
-
-/// Set (e.g. from a signal handler) to ask for a clean end of the session: the backend calls
-/// `xrRequestExitSession` and leaves after STOPPING and EXITING.
-pub static EXIT_SIGNAL: AtomicBool = AtomicBool::new(false);
 
 /// How long the desktop's [`FrameLoop::begin_frame`] sleeps between polls while the session
 /// is not running.

@@ -5,44 +5,8 @@ use std::fs;
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
+use super::{write_atomically, ExportError};
 use crate::sim::surface::{self, CascadeSurface};
-
-/// A file or directory that could not be written.
-#[derive(Debug)]
-pub struct ExportError {
-    /// What was being written.
-    pub path: PathBuf,
-    /// Why it failed.
-    pub source: io::Error,
-}
-
-impl std::fmt::Display for ExportError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "cannot write {}: {}", self.path.display(), self.source)
-    }
-}
-
-impl std::error::Error for ExportError {
-    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        Some(&self.source)
-    }
-}
-
-fn at(path: &Path) -> impl FnOnce(io::Error) -> ExportError + '_ {
-    move |source| ExportError {
-        path: path.to_owned(),
-        source,
-    }
-}
-
-/// Creates `dir` (and parents) and checks that a file can be created in it, so a bad `--out`
-/// fails before any simulation work.
-pub fn prepare_dir(dir: &Path) -> Result<(), ExportError> {
-    fs::create_dir_all(dir).map_err(at(dir))?;
-    let probe = dir.join(".vr-ocean-write-test");
-    fs::write(&probe, b"").map_err(at(&probe))?;
-    fs::remove_file(&probe).map_err(at(&probe))
-}
 
 /// The fields of one cascade as planes: name, components per texel, values.
 fn planes(s: &CascadeSurface, base: &[[f32; 4]]) -> Vec<(&'static str, usize, Vec<f32>)> {
@@ -56,24 +20,6 @@ fn planes(s: &CascadeSurface, base: &[[f32; 4]]) -> Vec<(&'static str, usize, Ve
         ("normals", 3, normals),
         ("foam", 1, base.iter().map(|b| b[3]).collect()),
     ]
-}
-
-/// Writes `bytes` to `path` through a temporary file and a rename, so an interrupted export
-/// never leaves a truncated file under the final name.
-fn write_atomically(
-    path: &Path,
-    fill: impl FnOnce(&mut BufWriter<fs::File>) -> io::Result<()>,
-) -> Result<(), ExportError> {
-    let tmp = path.with_extension("partial");
-    let file = fs::File::create(&tmp).map_err(at(&tmp))?;
-    let mut w = BufWriter::new(file);
-    fill(&mut w).map_err(at(&tmp))?;
-    w.flush().map_err(at(&tmp))?;
-    w.into_inner()
-        .map_err(|e| e.into_error())
-        .and_then(|f| f.sync_all())
-        .map_err(at(&tmp))?;
-    fs::rename(&tmp, path).map_err(at(path))
 }
 
 /// Writes one cascade's fields as `{stem}_{field}.npy` (shape [N, N] or [N, N, 3], row index =

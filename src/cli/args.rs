@@ -1,0 +1,197 @@
+//! Arguments shared by several commands: the ocean (every command that simulates), the view
+//! (window, headless, xr) and the quality preset.
+
+use clap::{Args, ValueEnum};
+
+use vr_ocean::app::RunOptions;
+use vr_ocean::base::ParamError;
+use vr_ocean::lod::{LodSettings, OceanSize, QualityPreset};
+use vr_ocean::render::{ContextOptions, RendererSettings, StereoMode, Validation};
+use vr_ocean::sim::{FoamParams, GridSize, OceanConfig, SpectrumKind, WaveParams};
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum PresetArg {
+    Low,
+    Medium,
+    High,
+    Ultra,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum SpectrumArg {
+    Phillips,
+    Jonswap,
+}
+
+/// Ocean parameters shared by every command.
+#[derive(Args, Clone)]
+pub struct OceanArgs {
+    /// FFT grid side: a power of two from 16 to 1024.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 256)]
+    pub grid: u32,
+    /// Patch size of each cascade in metres, coarsest first (1 to 4, comma-separated).
+    #[arg(long, allow_negative_numbers = true, value_delimiter = ',', default_values_t = [257.0, 69.5, 16.1])]
+    pub patch: Vec<f32>,
+    /// Wind speed at 10 m (m/s).
+    #[arg(long, allow_negative_numbers = true, default_value_t = 10.0)]
+    pub wind: f32,
+    /// Wind direction (degrees from +x toward +z).
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.0)]
+    pub wind_dir: f32,
+    /// Directional alignment α in [0, 1].
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.8)]
+    pub alignment: f32,
+    /// Choppiness λ in [0, 2].
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.9)]
+    pub choppiness: f32,
+    /// Water depth (m); deep water when omitted.
+    #[arg(long, allow_negative_numbers = true)]
+    pub depth: Option<f32>,
+    /// Wave spectrum.
+    #[arg(long, value_enum, default_value_t = SpectrumArg::Phillips)]
+    pub spectrum: SpectrumArg,
+    /// Phillips amplitude multiplier.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1.0)]
+    pub amplitude: f32,
+    /// JONSWAP peak enhancement γ.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 3.3)]
+    pub gamma: f32,
+    /// JONSWAP fetch (km).
+    #[arg(long, allow_negative_numbers = true, default_value_t = 100.0)]
+    pub fetch: f32,
+    /// Small-wave suppression β in [0, 1].
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.2)]
+    pub suppression: f32,
+    /// Loop period T (s): the animation repeats exactly after T.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 200.0)]
+    pub loop_period: f32,
+    /// Material roughness in [0, 1].
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.1)]
+    pub roughness: f32,
+    /// Random seed.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
+    pub seed: u64,
+    /// Jacobian below which foam forms.
+    #[arg(long, allow_negative_numbers = true, default_value_t = FoamParams::default().threshold)]
+    pub foam_threshold: f32,
+    /// Foam growth rate (1/s).
+    #[arg(long, allow_negative_numbers = true, default_value_t = FoamParams::default().growth)]
+    pub foam_growth: f32,
+    /// Foam decay rate (1/s).
+    #[arg(long, allow_negative_numbers = true, default_value_t = FoamParams::default().decay)]
+    pub foam_decay: f32,
+}
+
+impl OceanArgs {
+    pub fn config(&self) -> Result<OceanConfig, ParamError> {
+        let spectrum = match self.spectrum {
+            SpectrumArg::Phillips => SpectrumKind::Phillips {
+                amplitude: self.amplitude,
+            },
+            SpectrumArg::Jonswap => SpectrumKind::Jonswap {
+                gamma: self.gamma,
+                fetch_km: self.fetch,
+            },
+        };
+        let cfg = OceanConfig {
+            grid: GridSize::new(self.grid)?,
+            patch_sizes: self.patch.clone(),
+            waves: WaveParams {
+                spectrum,
+                wind_speed: self.wind,
+                wind_direction_deg: self.wind_dir,
+                alignment: self.alignment,
+                depth: self.depth,
+                small_wave_suppression: self.suppression,
+                choppiness: self.choppiness,
+                loop_period: self.loop_period,
+                roughness: self.roughness,
+                foam: FoamParams {
+                    threshold: self.foam_threshold,
+                    growth: self.foam_growth,
+                    decay: self.foam_decay,
+                },
+                seed: self.seed,
+            },
+        };
+        cfg.validate()?;
+        Ok(cfg)
+    }
+}
+
+/// Settings of the renderer and LOD shared by the headless and window modes.
+#[derive(Args, Clone)]
+pub struct ViewArgs {
+    #[command(flatten)]
+    pub ocean: OceanArgs,
+    /// Quality preset (thesis Table 2).
+    #[arg(long, value_enum, default_value_t = PresetArg::High)]
+    pub preset: PresetArg,
+    /// Ocean size S (m) the quadtree covers, 256 to 8192; the skirt reaches 10 S.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 2048.0)]
+    pub ocean_size: f32,
+    /// How both eyes are drawn.
+    #[arg(long, value_enum, default_value_t = StereoArg::Multiview)]
+    pub stereo: StereoArg,
+    /// Simulation worker threads.
+    #[arg(long, default_value_t = default_threads())]
+    pub threads: usize,
+    /// Load the Khronos validation layer (fails if it is not installed).
+    #[arg(long)]
+    pub validation: bool,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum StereoArg {
+    Multiview,
+    TwoPass,
+}
+
+impl ViewArgs {
+    pub fn run_options(&self, capture: Vec<u64>, warmup: u64) -> Result<RunOptions, ParamError> {
+        let ocean = self.ocean.config()?;
+        let size = OceanSize::new(self.ocean_size)?;
+        if self.threads == 0 {
+            return Err(ParamError::new("threads", 0.0, "at least 1 thread"));
+        }
+        Ok(RunOptions {
+            ocean,
+            threads: self.threads,
+            lod: LodSettings::new(preset(self.preset), size),
+            renderer: RendererSettings {
+                stereo: match self.stereo {
+                    StereoArg::Multiview => StereoMode::Multiview,
+                    StereoArg::TwoPass => StereoMode::TwoPass,
+                },
+                ..RendererSettings::default()
+            },
+            capture,
+            warmup,
+        })
+    }
+
+    pub fn context(&self) -> ContextOptions {
+        ContextOptions {
+            validation: if self.validation {
+                Validation::Required
+            } else {
+                Validation::Off
+            },
+            ..ContextOptions::default()
+        }
+    }
+}
+
+pub fn default_threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// The library's preset for a `--preset` value.
+pub fn preset(p: PresetArg) -> QualityPreset {
+    match p {
+        PresetArg::Low => QualityPreset::Low,
+        PresetArg::Medium => QualityPreset::Medium,
+        PresetArg::High => QualityPreset::High,
+        PresetArg::Ultra => QualityPreset::Ultra,
+    }
+}

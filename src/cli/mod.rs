@@ -1,0 +1,61 @@
+//! The `vr-ocean` command line: argument structs ([`args`] shared, one file per command
+//! family: [`view`] for window/headless/xr, [`tools`] for simulate/export/bench/lod-svg) and the
+//! run report ([`report`]: validation errors, `frame_times.json`).
+
+pub mod args;
+pub mod report;
+pub mod tools;
+pub mod view;
+
+use clap::{Parser, Subcommand};
+
+use self::tools::{BenchArgs, ExportArgs, LodSvgArgs, SimulateArgs};
+use self::view::{DefaultRun, HeadlessArgs, WindowArgs, XrArgs};
+
+/// What a command returns: an error is printed as one line and the process exits non-zero.
+pub type CmdResult = Result<(), Box<dyn std::error::Error>>;
+
+#[derive(Parser)]
+#[command(
+    name = "vr-ocean",
+    version,
+    about = "An endless FFT ocean for OpenXR headsets"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+pub enum Command {
+    /// Run the simulation without graphics and print its statistics once a second.
+    Simulate(SimulateArgs),
+    /// Write height, Dx, Dz, normals and Jacobian at given times as float32 EXR and .npy.
+    Export(ExportArgs),
+    /// Time every pipeline stage next to rustfft and (with --features fftw) FFTW.
+    Bench(BenchArgs),
+    /// Open the ocean in a window (the default): both eyes side by side, fly with keyboard and
+    /// mouse, live wave and quality keys, frame times in the title.
+    Window(WindowArgs),
+    /// Render without a window along a camera path: both eyes as PNG and frame_times.json.
+    Headless(HeadlessArgs),
+    /// Run in a headset through the active OpenXR runtime (Monado, SteamVR, WiVRn): left stick
+    /// glides, right stick snap-turns, A (or menu) cycles the preset, triggers change the wind.
+    Xr(XrArgs),
+    /// Draw one frame of the quadtree LOD (patches by level, stitched edges, both eye frusta) as SVG.
+    LodSvg(LodSvgArgs),
+}
+
+/// Runs the command (the window, or headless without a display, when none is given).
+pub fn run(cli: Cli) -> CmdResult {
+    match cli.command {
+        None => view::window_cmd(DefaultRun::parse_from(["vr-ocean"]).args, true),
+        Some(Command::Window(a)) => view::window_cmd(a, false),
+        Some(Command::Simulate(a)) => tools::simulate(a),
+        Some(Command::Export(a)) => tools::export_cmd(a),
+        Some(Command::Bench(a)) => tools::bench_cmd(a),
+        Some(Command::LodSvg(a)) => tools::lod_svg_cmd(a),
+        Some(Command::Headless(a)) => view::headless_cmd(a),
+        Some(Command::Xr(a)) => view::xr_cmd(a),
+    }
+}

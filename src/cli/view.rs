@@ -1,0 +1,312 @@
+//! The commands that show the ocean: `window` (the default), `headless` and `xr`.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, ValueEnum};
+
+use super::args::{preset, ViewArgs};
+use super::report::{self, ValidationWatch};
+use super::CmdResult;
+use vr_ocean::app::{self, FrameTimes};
+use vr_ocean::base::ParamError;
+use vr_ocean::export;
+use vr_ocean::xr::desktop::window::{OpenError, WindowOptions, WindowSize, WindowXr, KEYS_HELP};
+use vr_ocean::xr::desktop::{self, CameraPath, EyeSize, HeadlessXr};
+use vr_ocean::xr::openxr::quest::{Foveation, PerfLevel};
+use vr_ocean::xr::openxr::{self, OpenXr, OpenXrOptions};
+use vr_ocean::xr::FrameLoop;
+
+/// What `vr-ocean` with no subcommand runs: `window` with its defaults (headless without a
+/// display).
+#[derive(Parser)]
+pub struct DefaultRun {
+    #[command(flatten)]
+    pub args: WindowArgs,
+}
+
+#[derive(Args)]
+pub struct HeadlessArgs {
+    #[command(flatten)]
+    pub view: ViewArgs,
+    /// Frames to render (on a fixed 72 Hz clock).
+    #[arg(long, default_value_t = 144)]
+    pub frames: u64,
+    /// Per-eye image size WIDTHxHEIGHT.
+    #[arg(long, allow_hyphen_values = true, default_value = "640x640")]
+    pub size: String,
+    /// Camera path file (format in `src/xr/desktop/path.rs` and the README); default: standing
+    /// on a deck 4.5 m above the mean sea level, looking slightly down at the horizon.
+    #[arg(long)]
+    pub path: Option<PathBuf>,
+    /// Frames to save as PNG (comma-separated); default: the last one.
+    #[arg(long, value_delimiter = ',')]
+    pub capture: Vec<u64>,
+    /// Frames at the start left out of frame_times.json.
+    #[arg(long, default_value_t = 10)]
+    pub warmup: u64,
+    /// Output directory for PNGs and frame_times.json (created if missing).
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+#[derive(Args)]
+pub struct WindowArgs {
+    #[command(flatten)]
+    pub view: ViewArgs,
+    /// Window size WIDTHxHEIGHT; each eye is rendered at half the width by the full height.
+    #[arg(long, default_value = "1600x800")]
+    pub size: String,
+    /// Camera path file: poses from the path (on the real clock) instead of keyboard and mouse.
+    #[arg(long)]
+    pub path: Option<PathBuf>,
+    /// Quit after this many frames (unattended runs and tests); default: until Esc.
+    #[arg(long)]
+    pub frames: Option<u64>,
+    /// Save the window's last frame as PNG (needs --frames).
+    #[arg(long, requires = "frames")]
+    pub screenshot: Option<PathBuf>,
+}
+
+#[derive(Args)]
+pub struct XrArgs {
+    #[command(flatten)]
+    pub view: ViewArgs,
+    /// End the session after this many submitted frames (tests, CI); default: until the
+    /// runtime ends it or Ctrl-C.
+    #[arg(long)]
+    pub frames: Option<u64>,
+    /// Factor on the runtime's recommended per-eye size, 0.1 to 4 [default: the headset's, 1].
+    #[arg(long, allow_negative_numbers = true)]
+    pub resolution_scale: Option<f32>,
+    /// Fixed foveation level (with XR_FB_foveation) [default: the headset's: high on Quest 2,
+    /// medium elsewhere].
+    #[arg(long, value_enum)]
+    pub foveation: Option<FoveationArg>,
+    /// Highest display refresh rate to ask for (Hz, with XR_FB_display_refresh_rate); lower
+    /// rates are taken when frames do not fit the budget [default: the headset's: 72 on
+    /// Quest 2, 90 on Quest Pro/3/3S, 120 elsewhere].
+    #[arg(long, allow_negative_numbers = true)]
+    pub max_refresh_rate: Option<f32>,
+    /// CPU performance level (with XR_EXT_performance_settings).
+    #[arg(long, value_enum, default_value_t = PerfArg::SustainedHigh)]
+    pub cpu_level: PerfArg,
+    /// GPU performance level (with XR_EXT_performance_settings).
+    #[arg(long, value_enum, default_value_t = PerfArg::SustainedHigh)]
+    pub gpu_level: PerfArg,
+    /// Height of the floor you stand on above the mean sea level (m).
+    #[arg(long, allow_negative_numbers = true, default_value_t = 2.9)]
+    pub deck_height: f32,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum FoveationArg {
+    Off,
+    Low,
+    Medium,
+    High,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum PerfArg {
+    PowerSavings,
+    SustainedLow,
+    SustainedHigh,
+    Boost,
+}
+
+/// Where the default run writes when there is no display.
+pub const FALLBACK_DIR: &str = "vr-ocean-headless";
+
+pub fn headless_cmd(a: HeadlessArgs) -> CmdResult {
+    let size = EyeSize::parse(&a.size)?;
+    if a.frames == 0 {
+        return Err(ParamError::new("frames", 0.0, "at least 1 frame").into());
+    }
+    let path = match &a.path {
+        Some(p) => CameraPath::load(p)?,
+        None => CameraPath::still(desktop::START_POSITION, 0.0, desktop::START_PITCH),
+    };
+    let capture = if a.capture.is_empty() {
+        vec![a.frames - 1]
+    } else {
+        a.capture.clone()
+    };
+    if let Some(bad) = capture.iter().find(|&&f| f >= a.frames) {
+        return Err(ParamError::new("capture", *bad as f64, "frame numbers below --frames").into());
+    }
+    let opts = a.view.run_options(capture, a.warmup.min(a.frames - 1))?;
+    export::prepare_dir(&a.out)?;
+    let mut xr = HeadlessXr::new(&a.view.context(), size, path, a.frames)?;
+    println!(
+        "rendering {} frames of {}x{} per eye ({}) on {}",
+        a.frames,
+        size.extent().width,
+        size.extent().height,
+        opts.renderer.stereo.name(),
+        xr.gpu().device_name
+    );
+    let mut pngs = PngWriter {
+        dir: a.out.clone(),
+        saved: Vec::new(),
+    };
+    // Counts validation errors over the whole run, shutdown included.
+    let validation = ValidationWatch::of(xr.gpu());
+    let report = app::run(&mut xr, &opts, &mut pngs)?;
+    drop(xr);
+    let json_path = a.out.join("frame_times.json");
+    report::write_frame_times(&json_path, &report, opts.renderer.stereo.name())?;
+    print_times(&report.times);
+    for f in &pngs.saved {
+        println!("wrote {}", f.display());
+    }
+    println!("wrote {}", json_path.display());
+    validation.check()
+}
+
+/// Saves captured frames as `frame_NNNNN_{left,right}.png`.
+struct PngWriter {
+    dir: PathBuf,
+    saved: Vec<PathBuf>,
+}
+
+impl app::RunHooks for PngWriter {
+    fn capture(&mut self, c: &app::Capture<'_>) -> Result<(), app::AppError> {
+        for (eye, pixels) in ["left", "right"].iter().zip(c.eyes) {
+            let file = self.dir.join(format!("frame_{:05}_{eye}.png", c.frame));
+            export::save_png(&file, c.width, c.height, pixels)
+                .map_err(|e| app::AppError::Io(e.to_string()))?;
+            self.saved.push(file);
+        }
+        Ok(())
+    }
+}
+
+/// The window mode; with `fallback`, no display means a headless run into [`FALLBACK_DIR`].
+pub fn window_cmd(a: WindowArgs, fallback: bool) -> CmdResult {
+    let size = WindowSize::parse(&a.size)?;
+    if a.frames == Some(0) {
+        return Err(ParamError::new("frames", 0.0, "at least 1 frame").into());
+    }
+    let path = a.path.as_deref().map(CameraPath::load).transpose()?;
+    let warmup = a.frames.map_or(10, |n| n.saturating_sub(1).min(10));
+    let opts = a.view.run_options(Vec::new(), warmup)?;
+    if let Some(shot) = &a.screenshot {
+        let dir = shot.parent().filter(|d| !d.as_os_str().is_empty());
+        export::prepare_dir(dir.unwrap_or(std::path::Path::new(".")))?;
+    }
+    let options = WindowOptions {
+        size,
+        path,
+        frames: a.frames,
+        screenshot: a.screenshot.is_some(),
+    };
+    let mut xr = match WindowXr::new(&a.view.context(), options) {
+        Ok(xr) => xr,
+        Err(OpenError::Unavailable(why)) if fallback => return headless_fallback(&why, a.view),
+        Err(e) => return Err(e.into()),
+    };
+    let eye = size.eye().extent();
+    println!(
+        "window {}x{}: both eyes at {}x{} ({}) on {}",
+        size.extent().width,
+        size.extent().height,
+        eye.width,
+        eye.height,
+        opts.renderer.stereo.name(),
+        xr.gpu().device_name
+    );
+    if a.path.is_none() {
+        println!("{KEYS_HELP}");
+    }
+    // Counts validation errors over the whole window lifetime, shutdown included.
+    let validation = ValidationWatch::of(xr.gpu());
+    let report = app::run(&mut xr, &opts, &mut app::NoHooks)?;
+    let screenshot = xr.take_screenshot();
+    drop(xr);
+    println!("{} frames", report.frames);
+    print_times(&report.times);
+    if let Some(file) = &a.screenshot {
+        let shot = screenshot.ok_or(
+            "no screenshot: the last frame was not shown (window minimised), or the window's \
+             images cannot be copied",
+        )?;
+        export::save_png(file, shot.width, shot.height, &shot.rgba)?;
+        println!("wrote {}", file.display());
+    }
+    validation.check()
+}
+
+pub fn xr_cmd(a: XrArgs) -> CmdResult {
+    if a.frames == Some(0) {
+        return Err(ParamError::new("frames", 0.0, "at least 1 frame").into());
+    }
+    let opts = a.view.run_options(Vec::new(), 10)?;
+    let perf = |p: PerfArg| match p {
+        PerfArg::PowerSavings => PerfLevel::PowerSavings,
+        PerfArg::SustainedLow => PerfLevel::SustainedLow,
+        PerfArg::SustainedHigh => PerfLevel::SustainedHigh,
+        PerfArg::Boost => PerfLevel::Boost,
+    };
+    let mut xr = OpenXr::new(OpenXrOptions {
+        frames: a.frames,
+        resolution_scale: a.resolution_scale,
+        validation: a.view.context().validation,
+        foveation: a.foveation.map(|f| match f {
+            FoveationArg::Off => Foveation::Off,
+            FoveationArg::Low => Foveation::Low,
+            FoveationArg::Medium => Foveation::Medium,
+            FoveationArg::High => Foveation::High,
+        }),
+        max_refresh_rate: a.max_refresh_rate,
+        perf_levels: (perf(a.cpu_level), perf(a.gpu_level)),
+        deck_height: a.deck_height,
+        preset: Some(preset(a.view.preset)),
+    })?;
+    openxr::install_exit_signal_handler();
+    let extent = xr.targets().extent;
+    println!(
+        "OpenXR session: {}x{} per eye ({}) on {}",
+        extent.width,
+        extent.height,
+        opts.renderer.stereo.name(),
+        xr.gpu().device_name
+    );
+    // Counts validation errors over the whole session, shutdown included.
+    let validation = ValidationWatch::of(xr.gpu());
+    let result = app::run(&mut xr, &opts, &mut app::NoHooks);
+    let summary = xr.summary();
+    drop(xr);
+    println!("openxr summary: {}", summary.line());
+    let report = result?;
+    println!("{} frames rendered", report.frames);
+    print_times(&report.times);
+    validation.check()
+}
+
+/// The default run without a display: 144 headless frames into [`FALLBACK_DIR`].
+fn headless_fallback(why: &str, view: ViewArgs) -> CmdResult {
+    println!("{why}; rendering 144 frames headless into ./{FALLBACK_DIR}/ instead");
+    let out = PathBuf::from(FALLBACK_DIR);
+    headless_cmd(HeadlessArgs {
+        view,
+        frames: 144,
+        size: "640x640".into(),
+        path: None,
+        capture: Vec::new(),
+        warmup: 10,
+        out: out.clone(),
+    })?;
+    let shown = std::fs::canonicalize(&out).unwrap_or(out);
+    println!(
+        "no display, so no window: the images are in {}",
+        shown.display()
+    );
+    Ok(())
+}
+
+pub fn print_times(t: &FrameTimes) {
+    println!("{:<12} {:>9} {:>9} {:>9}", "ms", "p50", "p95", "p99");
+    for (name, p) in app::timing::TIMINGS.iter().zip(t.all()) {
+        println!("{name:<12} {:>9.3} {:>9.3} {:>9.3}", p.p50, p.p95, p.p99);
+    }
+}
