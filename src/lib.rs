@@ -5,6 +5,7 @@
 //! edge (`android_main`). See `ARCHITECTURE.md`.
 
 #![warn(missing_docs)]
+#![warn(clippy::undocumented_unsafe_blocks)]
 
 pub mod android;
 pub mod app;

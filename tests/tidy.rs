@@ -27,10 +27,7 @@ const LAYERS: &[(&str, &[&str])] = &[
 const MAX_LINES: usize = 600;
 
 /// Files allowed above [`MAX_LINES`], each with why.
-const LONG_FILES: &[(&str, &str)] = &[
-    ("xr/desktop/window.rs", "to split (issue 11)"),
-    ("sim/surface.rs", "to split (issue 11)"),
-];
+const LONG_FILES: &[(&str, &str)] = &[];
 
 fn src() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("src")

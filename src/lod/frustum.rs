@@ -1,5 +1,10 @@
 //! Stereo frustum culling: the union of the two eye frusta, with the positive-vertex AABB test
 //! of eq. 59-60 on boxes padded by the simulation's real maximum displacement (eq. 61).
+//!
+//! Conservative: a patch is drawn when its box (footprint + β × the simulation's real max |Dx|,
+//! |h|, |Dz|) passes all planes of either eye; no patch a brute-force point test says an eye
+//! sees is ever dropped (tested). Culling filters leaves only; stitch flags come from the full
+//! tree, so culled neighbours never change what is drawn.
 
 use glam::{Vec3, Vec4};
 

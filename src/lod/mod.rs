@@ -8,6 +8,15 @@
 //! both eyes ([`frustum`], eq. 59-61), and batch the survivors by stitch configuration
 //! ([`batch`], eq. 70). The patch mesh and its 16 index sets ([`mesh`], [`stitch`], eq. 65-68)
 //! and the skirt ([`skirt`], section 5.7) are built once.
+//!
+//! # Snapping
+//! The grid centre snaps to δ = S/V (eq. 69 uses S/2V). Every vertex lattice of level ≥ 2, with
+//! its parities mod 4 (which vertices are odd, which diagonal each coarse cell has), is fixed in
+//! world space as the head moves; node lattices of coarse levels do move by δ.
+//!
+//! # No allocation per frame
+//! Map, stack, leaves, visibility and instances are sized once for the worst case (W² leaves);
+//! `tests/lod_no_alloc.rs` counts allocations.
 
 pub mod batch;
 pub mod frustum;

@@ -83,8 +83,9 @@ impl VulkanFactory for DirectVulkan {
         info: &vk::InstanceCreateInfo<'_>,
     ) -> Result<vk::Instance, RenderError> {
         // Only the handle: the context loads the instance's function table once, for both
-        // factories. SAFETY: every pointer in `info` outlives the call (the caller's contract).
+        // factories.
         let mut raw = vk::Instance::null();
+        // SAFETY: every pointer in `info` outlives the call (the caller's contract).
         unsafe { (entry.fp_v1_0().create_instance)(info, std::ptr::null(), &mut raw) }
             .result_with_success(raw)
             .map_err(|e| match e {
@@ -109,9 +110,9 @@ impl VulkanFactory for DirectVulkan {
         physical: vk::PhysicalDevice,
         info: &vk::DeviceCreateInfo<'_>,
     ) -> Result<vk::Device, RenderError> {
-        // Only the handle, as for the instance. SAFETY: `physical` came from `instance`;
-        // `info`'s pointers outlive the call.
+        // Only the handle, as for the instance.
         let mut raw = vk::Device::null();
+        // SAFETY: `physical` came from `instance`; `info`'s pointers outlive the call.
         unsafe { (instance.fp_v1_0().create_device)(physical, info, std::ptr::null(), &mut raw) }
             .result_with_success(raw)
             .map_err(RenderError::vk("vkCreateDevice"))
@@ -199,6 +200,7 @@ impl GpuContext {
         // SAFETY: loading the system loader runs its initialisers; nothing else is loaded.
         let entry =
             unsafe { ash::Entry::load() }.map_err(|e| RenderError::NoLoader(e.to_string()))?;
+        // SAFETY: the entry points were just loaded.
         let has_layer = unsafe { entry.enumerate_instance_layer_properties() }
             .map_err(RenderError::vk("vkEnumerateInstanceLayerProperties"))?
             .iter()
@@ -260,6 +262,8 @@ impl GpuContext {
         let debug = match messenger_info {
             Some(m) => {
                 let du = ash::ext::debug_utils::Instance::new(&entry, &instance);
+                // SAFETY: `m` points at the log, which the context keeps alive longer than the
+                // messenger.
                 let messenger = unsafe { du.create_debug_utils_messenger(&m, None) }
                     .map_err(RenderError::vk("vkCreateDebugUtilsMessengerEXT"))?;
                 Some((du, messenger))
@@ -293,8 +297,10 @@ impl GpuContext {
         }
         let mut mv = vk::PhysicalDeviceMultiviewFeatures::default();
         let mut f2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut mv);
+        // SAFETY: `physical` belongs to `instance`; the chain lives on this stack frame.
         unsafe { instance.get_physical_device_features2(physical, &mut f2) };
         let multiview = mv.multiview == vk::TRUE;
+        // SAFETY: `physical` belongs to `instance`.
         let families = unsafe { instance.get_physical_device_queue_family_properties(physical) };
         let timestamp_period = (families[queue_family as usize].timestamp_valid_bits > 0
             && props.limits.timestamp_period > 0.0)
@@ -316,7 +322,9 @@ impl GpuContext {
         let raw = factory.create_device(instance, physical, &dinfo)?;
         // SAFETY: `raw` was just created on `physical` of this instance.
         let device = unsafe { ash::Device::load(instance.fp_v1_0(), raw) };
+        // SAFETY: the device was created with one queue of this family.
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
+        // SAFETY: `physical` belongs to `instance`.
         let memory = unsafe { instance.get_physical_device_memory_properties(physical) };
         let (entry, instance, debug) = ctx.take();
         log::info!(
@@ -429,6 +437,7 @@ struct PartialContext {
 
 impl PartialContext {
     fn pick_device(&mut self) -> Result<(vk::PhysicalDevice, u32), RenderError> {
+        // SAFETY: the instance is alive.
         let devices = unsafe { self.instance.enumerate_physical_devices() }
             .map_err(|e| RenderError::NoDevice(e.to_string()))?;
         if devices.is_empty() {
@@ -442,7 +451,9 @@ impl PartialContext {
         };
         let mut best: Option<(u32, vk::PhysicalDevice, u32)> = None;
         for d in devices {
+            // SAFETY: `d` was enumerated from this instance.
             let props = unsafe { self.instance.get_physical_device_properties(d) };
+            // SAFETY: as above.
             let families = unsafe { self.instance.get_physical_device_queue_family_properties(d) };
             let Some(q) = families
                 .iter()
@@ -500,7 +511,10 @@ unsafe extern "system" fn on_message(
 ) -> vk::Bool32 {
     // SAFETY: `user` is the `ValidationLog` the context keeps alive while the messenger exists.
     let log = unsafe { &*(user as *const ValidationLog) };
+    // SAFETY: the layer passes a valid callback data pointer (or null) for the call's duration,
+    // and its message, when present, is a NUL-terminated string.
     let msg = unsafe { data.as_ref() }
+        // SAFETY: as above.
         .and_then(|d| unsafe { d.message_as_c_str() })
         .map(|m| m.to_string_lossy().into_owned())
         .unwrap_or_default();

@@ -40,6 +40,7 @@ pub fn one_shot(ctx: &GpuContext, f: impl FnOnce(vk::CommandBuffer)) -> Result<(
     let pool = commands::command_pool(ctx, vk::CommandPoolCreateFlags::TRANSIENT)?;
     let result = (|| {
         let cmd = commands::primary_buffers(ctx, pool, 1)?[0];
+        // SAFETY: a fresh command buffer of a pool only this function uses.
         unsafe {
             d.begin_command_buffer(
                 cmd,
@@ -49,19 +50,25 @@ pub fn one_shot(ctx: &GpuContext, f: impl FnOnce(vk::CommandBuffer)) -> Result<(
         }
         .map_err(RenderError::vk("vkBeginCommandBuffer"))?;
         f(cmd);
+        // SAFETY: `cmd` is recording.
         unsafe { d.end_command_buffer(cmd) }.map_err(RenderError::vk("vkEndCommandBuffer"))?;
         let fence = commands::fence(ctx, false)?;
         let cmds = [cmd];
         let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
+        // SAFETY: `cmd` is executable and the fence unsignalled; the queue is only used from
+        // this thread.
         let r = unsafe { d.queue_submit(ctx.queue, &submit, fence) }
             .map_err(RenderError::vk("vkQueueSubmit"))
             .and_then(|_| {
+                // SAFETY: the fence is alive.
                 unsafe { d.wait_for_fences(&[fence], true, u64::MAX) }
                     .map_err(RenderError::vk("vkWaitForFences"))
             });
+        // SAFETY: the submission finished (or never started).
         unsafe { d.destroy_fence(fence, None) };
         r
     })();
+    // SAFETY: nothing from the pool is pending any more.
     unsafe { d.destroy_command_pool(pool, None) };
     result
 }

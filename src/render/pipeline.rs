@@ -260,8 +260,10 @@ fn build(
         })
     };
     let vert = module(vert)?;
-    // SAFETY (the closure): the vertex module is unused when the fragment module fails.
-    let frag = module(frag).inspect_err(|_| unsafe { d.destroy_shader_module(vert, None) })?;
+    let frag = module(frag).inspect_err(|_| {
+        // SAFETY: the vertex module is unused when the fragment module fails.
+        unsafe { d.destroy_shader_module(vert, None) }
+    })?;
     const MAIN: &CStr = c"main";
     let stages = [
         vk::PipelineShaderStageCreateInfo::default()

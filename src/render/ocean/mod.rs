@@ -3,11 +3,11 @@
 //! skirt and the sky, and times the pass with GPU timestamps. One file per job, following the
 //! objects' lifetimes:
 //!
-//! - [`slots`]: the frames-in-flight ring (what the CPU writes per frame);
-//! - [`textures`]: the cascade textures, their samplers and the upload;
-//! - [`mesh`]: the patch, skirt and sky meshes, uploaded once;
-//! - [`targets`]: views and framebuffers of the target images;
-//! - [`pass`]: the uniforms, cascade fades and the pass's recording.
+//! - `slots`: the frames-in-flight ring (what the CPU writes per frame);
+//! - `textures`: the cascade textures, their samplers and the upload;
+//! - `mesh`: the patch, skirt and sky meshes, uploaded once;
+//! - `targets`: views and framebuffers of the target images;
+//! - `pass`: the uniforms, cascade fades and the pass's recording.
 //!
 //! Invariants:
 //! - A slot is reused only after its fence signals, so the CPU never writes memory the GPU

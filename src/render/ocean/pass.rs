@@ -1,6 +1,11 @@
 //! The ocean pass: its uniforms (eyes, sun, cascades and their fade distances) and its
 //! recording: at most 16 instanced patch draws, the skirt and the sky, for both eyes with
 //! multiview or for one eye per pass without.
+//!
+//! One pipeline draws everything (push constant `mode`: patches, skirt, sky). The sky is a
+//! viewport-sized quad at depth 1e-7 drawn last under the `GREATER` test, so it fills only
+//! pixels no ocean covers and never needs clipping (lavapipe's multiview put clipped
+//! primitives of view 1 into layer 0).
 
 use ash::vk;
 

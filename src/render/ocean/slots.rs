@@ -2,6 +2,9 @@
 //! buffer, fence, staging buffer, instance buffer, uniform buffer, descriptor set, timestamp
 //! queries). A slot is reused only after its fence signals, so the CPU never writes memory the
 //! GPU still reads, and the frame loop never waits for the whole device.
+//!
+//! On a CPU device (lavapipe), whose `vkGetQueryPoolResults` idles the device, the previous
+//! frame's timestamps are read just before submitting, where the queue would serialize anyway.
 
 use std::time::Duration;
 

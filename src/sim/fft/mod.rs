@@ -15,6 +15,10 @@
 //! pass 2 writes plain rows, so the field ends in natural row-major order with no separate
 //! transpose or bit-reversal pass.
 //!
+//! Scratch content after a call is unspecified. `SimCore` owns 2 scratch fields up to N = 256
+//! (the four transforms go in two groups: fewer fork-joins) and 1 from N = 512 (cache); the
+//! grouping never changes the bits.
+//!
 //! Everything size-dependent (twiddles, stage list, output permutation) is built in
 //! [`Fft2d::new`]; transforms allocate nothing and only use a stack working buffer of
 //! N × 128 bytes (128 KiB at N = 1024).

@@ -17,6 +17,9 @@ impl Neon {
     }
 }
 
+// One SAFETY note per backend (inside the impl) covers its intrinsic wrappers: the token
+// proves the CPU feature, and every load and store goes through a slice of LANES floats.
+#[allow(clippy::undocumented_unsafe_blocks)]
 impl Simd for Neon {
     const LANES: usize = 4;
     type V = float32x4_t;

@@ -21,6 +21,9 @@ impl Sse2 {
     }
 }
 
+// One SAFETY note per backend (inside the impl) covers its intrinsic wrappers: the token
+// proves the CPU feature, and every load and store goes through a slice of LANES floats.
+#[allow(clippy::undocumented_unsafe_blocks)]
 impl Simd for Sse2 {
     const LANES: usize = 4;
     type V = __m128;
@@ -95,6 +98,9 @@ impl Avx2 {
     }
 }
 
+// One SAFETY note per backend (inside the impl) covers its intrinsic wrappers: the token
+// proves the CPU feature, and every load and store goes through a slice of LANES floats.
+#[allow(clippy::undocumented_unsafe_blocks)]
 impl Simd for Avx2 {
     const LANES: usize = 8;
     type V = __m256;
@@ -185,6 +191,9 @@ impl Avx512 {
     }
 }
 
+// One SAFETY note per backend (inside the impl) covers its intrinsic wrappers: the token
+// proves the CPU feature, and every load and store goes through a slice of LANES floats.
+#[allow(clippy::undocumented_unsafe_blocks)]
 impl Simd for Avx512 {
     const LANES: usize = 16;
     type V = __m512;

@@ -1,18 +1,18 @@
 //! The OpenXR backend of [`FrameLoop`]: the path a Quest runs, and on the desktop whatever
 //! runtime is active (Monado, SteamVR, WiVRn). In the order things happen:
 //!
-//! - [`instance`]: the loader, the runtime and our extensions;
+//! - `instance`: the loader, the runtime and our extensions;
 //! - [`vulkan`]: `XR_KHR_vulkan_enable2`, the runtime making our Vulkan instance and device;
-//! - [`session`]: the session, its space (STAGE, else LOCAL), the 2-layer sRGB colour swapchain
+//! - `session`: the session, its space (STAGE, else LOCAL), the 2-layer sRGB colour swapchain
 //!   and the optional depth swapchain ([`swapchain`]), the actions ([`input`]);
-//! - [`quest_setup`]: the Quest extensions' start-up (foveation, refresh rate, performance
+//! - `quest_setup`: the Quest extensions' start-up (foveation, refresh rate, performance
 //!   levels; their policies in [`quest`]);
-//! - [`frame`]: events into the [`lifecycle`] state machine, `xrWaitFrame`/`xrBeginFrame`,
+//! - `frame`: events into the [`lifecycle`] state machine, `xrWaitFrame`/`xrBeginFrame`,
 //!   views located without allocating at the predicted display time (also the simulation
 //!   time), the controllers;
-//! - [`layers`]: `xrEndFrame` with the projection layer (none when the frame is not shown);
-//! - [`stats`]: frame statistics and the session [`Summary`];
-//! - [`exit_signal`]: Ctrl-C and SIGTERM end the session cleanly.
+//! - `layers`: `xrEndFrame` with the projection layer (none when the frame is not shown);
+//! - `stats`: frame statistics and the session [`Summary`];
+//! - `exit_signal`: Ctrl-C and SIGTERM end the session cleanly.
 //!
 //! Every failed call is a [`CallError`] (call and result code); losing the runtime is worded in
 //! one place ([`error`]).

@@ -110,6 +110,7 @@ impl Presenter {
                 ctx.queue_family
             )));
         }
+        // SAFETY: the physical device belongs to the context's instance.
         let src = unsafe {
             ctx.instance
                 .get_physical_device_format_properties(ctx.physical, COLOUR_FORMAT)
@@ -128,6 +129,7 @@ impl Presenter {
         let cmds = commands::primary_buffers(ctx, self.pool, FRAMES_IN_FLIGHT as u32)?;
         for (f, cmd) in self.frames.iter_mut().zip(cmds) {
             f.cmd = cmd;
+            // SAFETY: a valid create info on a live device.
             f.acquired = unsafe { d.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }
                 .map_err(RenderError::vk("vkCreateSemaphore"))?;
             f.fence = commands::fence(ctx, true)?;
@@ -158,8 +160,11 @@ impl Presenter {
         }
         let d = &ctx.device;
         let f = self.frames[self.frame];
+        // SAFETY: the fence is alive.
         unsafe { d.wait_for_fences(&[f.fence], true, u64::MAX) }
             .map_err(RenderError::vk("vkWaitForFences"))?;
+        // SAFETY: the swapchain is current (re-created when stale) and the semaphore unsignalled
+        // (its previous wait was submitted before this slot's fence signalled).
         let index = match unsafe {
             self.swapchain_fn.acquire_next_image(
                 self.swapchain,
@@ -195,6 +200,7 @@ impl Presenter {
                 )?);
             }
         }
+        // SAFETY: the slot's fence signalled, so its command buffer is not pending.
         unsafe {
             d.reset_fences(&[f.fence])
                 .map_err(RenderError::vk("vkResetFences"))?;
@@ -222,6 +228,7 @@ impl Presenter {
             filter: self.filter,
         }
         .record(readback);
+        // SAFETY: `f.cmd` is recording.
         unsafe { d.end_command_buffer(f.cmd) }.map_err(RenderError::vk("vkEndCommandBuffer"))?;
 
         let waits = [f.acquired];
@@ -233,6 +240,7 @@ impl Presenter {
             .wait_dst_stage_mask(&stages)
             .command_buffers(&cmds)
             .signal_semaphores(&signals)];
+        // SAFETY: the command buffer is executable, the fence reset, the semaphores alive.
         unsafe { d.queue_submit(ctx.queue, &submit, f.fence) }
             .map_err(RenderError::vk("vkQueueSubmit"))?;
         let swapchains = [self.swapchain];
@@ -241,6 +249,7 @@ impl Presenter {
             .wait_semaphores(&signals)
             .swapchains(&swapchains)
             .image_indices(&indices);
+        // SAFETY: the image was acquired from this swapchain and its blit signals `signals`.
         match unsafe { self.swapchain_fn.queue_present(ctx.queue, &info) } {
             Ok(suboptimal) => self.stale |= suboptimal,
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => self.stale = true,
@@ -250,6 +259,7 @@ impl Presenter {
         if !capture {
             return Ok(None);
         }
+        // SAFETY: the fence is alive.
         unsafe { d.wait_for_fences(&[f.fence], true, u64::MAX) }
             .map_err(RenderError::vk("vkWaitForFences"))?;
         let (width, height) = (self.extent.width, self.extent.height);
@@ -277,6 +287,7 @@ impl Presenter {
     pub fn destroy(&mut self, ctx: &GpuContext) {
         ctx.wait_idle();
         let d = &ctx.device;
+        // SAFETY: the device is idle; null handles (parts never made) are no-ops.
         unsafe {
             for f in &self.frames {
                 d.destroy_semaphore(f.acquired, None);

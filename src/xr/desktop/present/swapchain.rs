@@ -13,6 +13,7 @@ impl Presenter {
         ctx: &GpuContext,
         size: vk::Extent2D,
     ) -> Result<bool, RenderError> {
+        // SAFETY: the surface and the physical device belong to the context's instance.
         let caps = unsafe {
             self.surface_fn
                 .get_physical_device_surface_capabilities(ctx.physical, self.surface)
@@ -48,6 +49,7 @@ impl Presenter {
                 "window images that can be blitted to (TRANSFER_DST)".into(),
             ));
         }
+        // SAFETY: as above.
         let formats = unsafe {
             self.surface_fn
                 .get_physical_device_surface_formats(ctx.physical, self.surface)
@@ -56,6 +58,7 @@ impl Presenter {
         self.format = choose_format(&formats).ok_or_else(|| {
             RenderError::Unsupported("a surface format for the window".to_string())
         })?;
+        // SAFETY: the physical device belongs to the context's instance.
         let dst = unsafe {
             ctx.instance
                 .get_physical_device_format_properties(ctx.physical, self.format.format)
@@ -102,9 +105,12 @@ impl Presenter {
             .present_mode(vk::PresentModeKHR::FIFO)
             .clipped(true)
             .old_swapchain(old);
+        // SAFETY: the surface is alive; the old swapchain (or null) is retired by this call.
         let swapchain = unsafe { self.swapchain_fn.create_swapchain(&info, None) }
             .map_err(RenderError::vk("vkCreateSwapchainKHR"))?;
         let d = &ctx.device;
+        // SAFETY: the device is idle (waited above), so the old swapchain's images and the
+        // semaphores are unused.
         unsafe {
             self.swapchain_fn.destroy_swapchain(old, None);
             for s in self.blitted.drain(..) {
@@ -112,9 +118,11 @@ impl Presenter {
             }
         }
         self.swapchain = swapchain;
+        // SAFETY: the swapchain was just created.
         self.images = unsafe { self.swapchain_fn.get_swapchain_images(swapchain) }
             .map_err(RenderError::vk("vkGetSwapchainImagesKHR"))?;
         for _ in 0..self.images.len() {
+            // SAFETY: a valid create info on a live device.
             let s = unsafe { d.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }
                 .map_err(RenderError::vk("vkCreateSemaphore"))?;
             self.blitted.push(s);

@@ -6,98 +6,35 @@
 //! every frame. The app renders into the backend's own [`DesktopSwapchain`]; [`FrameLoop::end_frame`]
 //! blits it into the window's swapchain (see `present`).
 //!
-//! Keys ([`KEYS_HELP`]): WASD move, Q/E down/up, Shift 5× faster, mouse look while a button is
+//! `input`: keys ([`KEYS_HELP`]): WASD move, Q/E down/up, Shift 5× faster, mouse look while a button is
 //! held; 1/2 wind speed −/+1 m/s, 3/4 wind direction −/+15°, 5/6 choppiness −/+0.1, F1-F4
-//! quality preset low/medium/high/ultra; Esc or closing the window quits.
+//! quality preset low/medium/high/ultra; Esc or closing the window quits. `size`: the
+//! window size the user gives.
+
+mod input;
+mod size;
+
+pub use input::{move_key, tweak_for_key, KEYS_HELP};
+pub use size::WindowSize;
 
 use std::time::{Duration, Instant};
 
 use ash::vk;
-use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
-use winit::event::{ElementState, WindowEvent};
-use winit::event_loop::{ActiveEventLoop, EventLoop};
-use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::event_loop::EventLoop;
 use winit::platform::pump_events::{EventLoopExtPumpEvents, PumpStatus};
 use winit::raw_window_handle::{HasDisplayHandle, HasWindowHandle};
-use winit::window::{Window, WindowId};
+use winit::window::Window;
 
-use super::controls::{FlyControls, MoveKey};
+use self::input::{Input, PENDING_TWEAKS};
+use super::controls::FlyControls;
 use super::present::{Presenter, Screenshot};
-use super::{eye_views, CameraPath, DesktopSwapchain, EyeSize};
-use crate::lod::QualityPreset;
+use super::{eye_views, CameraPath, DesktopSwapchain};
 use crate::render::{ContextOptions, GpuContext, RenderError, TargetImages};
-use crate::xr::{Acquired, FrameLoop, FrameState, Tweak, XrError, MAX_TWEAKS};
-
-/// The controls, as printed at start-up and in the README.
-pub const KEYS_HELP: &str = concat!(
-    "  W/A/S/D  move                  Q/E    down/up           Shift  5x faster\n",
-    "  mouse    look around while a mouse button is held\n",
-    "  1/2      wind speed -/+ 1 m/s  3/4    wind direction -/+ 15 deg\n",
-    "  5/6      choppiness -/+ 0.1    F1-F4  quality low/medium/high/ultra\n",
-    "  Esc      quit (or close the window)",
-);
+use crate::xr::{Acquired, FrameLoop, FrameState, XrError};
 
 /// Display period assumed when the monitor does not report its refresh rate (60 Hz).
 const DEFAULT_PERIOD: f64 = 1.0 / 60.0;
-
-/// Tweaks waiting for a frame (key presses faster than frames queue here).
-const PENDING_TWEAKS: usize = 16;
-
-/// A validated window size: at least 2×1 pixels (one per eye), at most 8192 a side.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct WindowSize {
-    width: u32,
-    height: u32,
-}
-
-impl WindowSize {
-    /// The largest side accepted.
-    pub const MAX: u32 = 8192;
-
-    /// Checks the width is in [2, 8192] and the height in [1, 8192].
-    pub fn new(width: u32, height: u32) -> Result<Self, String> {
-        if (2..=Self::MAX).contains(&width) && (1..=Self::MAX).contains(&height) {
-            Ok(Self { width, height })
-        } else {
-            Err(format!(
-                "window size {width}x{height}: the width must be in [2, {max}] pixels (one half \
-                 per eye) and the height in [1, {max}]",
-                max = Self::MAX
-            ))
-        }
-    }
-
-    /// Parses `WxH`.
-    pub fn parse(s: &str) -> Result<Self, String> {
-        let (w, h) = s
-            .split_once(['x', 'X'])
-            .ok_or_else(|| format!("window size `{s}`: expected WIDTHxHEIGHT, e.g. 1600x800"))?;
-        let p = |v: &str| {
-            v.trim()
-                .parse::<u32>()
-                .map_err(|_| format!("window size `{s}`: `{v}` is not a whole number of pixels"))
-        };
-        Self::new(p(w)?, p(h)?)
-    }
-
-    /// The per-eye image size: half the width, the full height (capped at [`EyeSize::MAX`]).
-    pub fn eye(self) -> EyeSize {
-        // Both sides are in [1, EyeSize::MAX] because `new` keeps the width at least 2.
-        EyeSize {
-            width: (self.width / 2).min(EyeSize::MAX),
-            height: self.height.min(EyeSize::MAX),
-        }
-    }
-
-    /// As a Vulkan extent.
-    pub fn extent(self) -> vk::Extent2D {
-        vk::Extent2D {
-            width: self.width,
-            height: self.height,
-        }
-    }
-}
 
 /// How the window run is set up.
 pub struct WindowOptions {
@@ -130,126 +67,6 @@ impl std::fmt::Display for OpenError {
 }
 
 impl std::error::Error for OpenError {}
-
-/// The movement key a physical key drives, if any.
-pub fn move_key(code: KeyCode) -> Option<MoveKey> {
-    Some(match code {
-        KeyCode::KeyW => MoveKey::Forward,
-        KeyCode::KeyS => MoveKey::Back,
-        KeyCode::KeyA => MoveKey::Left,
-        KeyCode::KeyD => MoveKey::Right,
-        KeyCode::KeyE => MoveKey::Up,
-        KeyCode::KeyQ => MoveKey::Down,
-        KeyCode::ShiftLeft | KeyCode::ShiftRight => MoveKey::Fast,
-        _ => return None,
-    })
-}
-
-/// The live tweak a physical key asks for, if any (see [`KEYS_HELP`]).
-pub fn tweak_for_key(code: KeyCode) -> Option<Tweak> {
-    Some(match code {
-        KeyCode::Digit1 => Tweak::WindSpeed(-1.0),
-        KeyCode::Digit2 => Tweak::WindSpeed(1.0),
-        KeyCode::Digit3 => Tweak::WindDirection(-15.0),
-        KeyCode::Digit4 => Tweak::WindDirection(15.0),
-        KeyCode::Digit5 => Tweak::Choppiness(-0.1),
-        KeyCode::Digit6 => Tweak::Choppiness(0.1),
-        KeyCode::F1 => Tweak::Preset(QualityPreset::Low),
-        KeyCode::F2 => Tweak::Preset(QualityPreset::Medium),
-        KeyCode::F3 => Tweak::Preset(QualityPreset::High),
-        KeyCode::F4 => Tweak::Preset(QualityPreset::Ultra),
-        _ => return None,
-    })
-}
-
-/// winit's side: the window and what its events asked for since the last frame.
-struct Input {
-    attributes: winit::window::WindowAttributes,
-    window: Option<Window>,
-    error: Option<String>,
-    controls: FlyControls,
-    pending: [Option<Tweak>; PENDING_TWEAKS],
-    quit: bool,
-    resized: bool,
-    turning: bool,
-    cursor: Option<(f64, f64)>,
-}
-
-impl Input {
-    fn push_tweak(&mut self, t: Tweak) {
-        match self.pending.iter_mut().find(|p| p.is_none()) {
-            Some(slot) => *slot = Some(t),
-            None => log::warn!("too many key presses at once; {t:?} ignored"),
-        }
-    }
-
-    /// Moves up to [`MAX_TWEAKS`] queued tweaks out, oldest first.
-    fn take_tweaks(&mut self) -> [Option<Tweak>; MAX_TWEAKS] {
-        let mut out = [None; MAX_TWEAKS];
-        let n = self.pending.iter().take_while(|p| p.is_some()).count();
-        let k = n.min(MAX_TWEAKS);
-        out[..k].copy_from_slice(&self.pending[..k]);
-        self.pending.copy_within(k.., 0);
-        for p in &mut self.pending[PENDING_TWEAKS - k..] {
-            *p = None;
-        }
-        out
-    }
-}
-
-impl ApplicationHandler for Input {
-    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
-        if self.window.is_none() && self.error.is_none() {
-            match event_loop.create_window(self.attributes.clone()) {
-                Ok(w) => self.window = Some(w),
-                Err(e) => self.error = Some(format!("cannot create the window: {e}")),
-            }
-        }
-    }
-
-    fn window_event(&mut self, _: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
-        match event {
-            WindowEvent::CloseRequested => self.quit = true,
-            WindowEvent::Resized(_) | WindowEvent::ScaleFactorChanged { .. } => self.resized = true,
-            WindowEvent::Focused(false) => {
-                self.controls.release_all();
-                self.turning = false;
-            }
-            WindowEvent::KeyboardInput { event, .. } => {
-                let PhysicalKey::Code(code) = event.physical_key else {
-                    return;
-                };
-                let down = event.state == ElementState::Pressed;
-                if let Some(k) = move_key(code) {
-                    self.controls.key(k, down);
-                }
-                if !down {
-                    return;
-                }
-                if code == KeyCode::Escape {
-                    self.quit = true;
-                } else if let Some(t) = tweak_for_key(code) {
-                    // Holding a wave key repeats it; a preset switch happens once.
-                    if !(event.repeat && matches!(t, Tweak::Preset(_))) {
-                        self.push_tweak(t);
-                    }
-                }
-            }
-            WindowEvent::MouseInput { state, .. } => {
-                self.turning = state == ElementState::Pressed;
-            }
-            WindowEvent::CursorMoved { position, .. } => {
-                let now = (position.x, position.y);
-                if let (true, Some(prev)) = (self.turning, self.cursor) {
-                    self.controls.look(now.0 - prev.0, now.1 - prev.1);
-                }
-                self.cursor = Some(now);
-            }
-            WindowEvent::CursorLeft { .. } => self.cursor = None,
-            _ => {}
-        }
-    }
-}
 
 /// The window backend.
 pub struct WindowXr {
@@ -288,7 +105,7 @@ impl WindowXr {
         let mut input = Input {
             attributes: Window::default_attributes()
                 .with_title("vr-ocean")
-                .with_inner_size(PhysicalSize::new(size.width, size.height)),
+                .with_inner_size(PhysicalSize::new(size.extent().width, size.extent().height)),
             window: None,
             error: None,
             controls: FlyControls::new(super::START_POSITION, 0.0, super::START_PITCH),
@@ -526,80 +343,5 @@ impl Drop for WindowXr {
         self.ctx.wait_idle();
         self.presenter.destroy(&self.ctx);
         self.swapchain.destroy(&self.ctx);
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn window_sizes_are_checked() {
-        assert!(WindowSize::parse("0x800")
-            .unwrap_err()
-            .contains("[2, 8192]"));
-        assert!(WindowSize::parse("1600x0").is_err());
-        assert!(WindowSize::parse("1x10").is_err());
-        assert!(WindowSize::parse("1600").is_err());
-        assert!(WindowSize::parse("axb").is_err());
-        let s = WindowSize::parse("1600x800").unwrap();
-        assert_eq!(
-            s.eye().extent(),
-            vk::Extent2D {
-                width: 800,
-                height: 800
-            }
-        );
-        assert_eq!(
-            WindowSize::parse("8192x8192")
-                .unwrap()
-                .eye()
-                .extent()
-                .height,
-            EyeSize::MAX
-        );
-    }
-
-    #[test]
-    fn keys_map_to_moves_and_tweaks() {
-        assert_eq!(move_key(KeyCode::KeyW), Some(MoveKey::Forward));
-        assert_eq!(move_key(KeyCode::ShiftRight), Some(MoveKey::Fast));
-        assert_eq!(move_key(KeyCode::Digit1), None);
-        assert_eq!(tweak_for_key(KeyCode::Digit2), Some(Tweak::WindSpeed(1.0)));
-        assert_eq!(
-            tweak_for_key(KeyCode::F4),
-            Some(Tweak::Preset(QualityPreset::Ultra))
-        );
-        assert_eq!(tweak_for_key(KeyCode::KeyW), None);
-    }
-
-    #[test]
-    fn queued_tweaks_leave_in_order_a_few_per_frame() {
-        let mut input = Input {
-            attributes: Window::default_attributes(),
-            window: None,
-            error: None,
-            controls: FlyControls::new(glam::Vec3::Y, 0.0, 0.0),
-            pending: [None; PENDING_TWEAKS],
-            quit: false,
-            resized: false,
-            turning: false,
-            cursor: None,
-        };
-        for i in 0..(PENDING_TWEAKS + 2) {
-            input.push_tweak(Tweak::WindSpeed(i as f32));
-        }
-        let mut seen = Vec::new();
-        loop {
-            let t = input.take_tweaks();
-            if t[0].is_none() {
-                break;
-            }
-            seen.extend(t.into_iter().flatten());
-        }
-        let want: Vec<Tweak> = (0..PENDING_TWEAKS)
-            .map(|i| Tweak::WindSpeed(i as f32))
-            .collect();
-        assert_eq!(seen, want);
     }
 }

@@ -1,6 +1,23 @@
 //! Stages 5-6 (thesis 4.2.4-4.2.5): from the four transformed fields to the surface a renderer
 //! and a buoyancy query use: displacement (eq. 42-44), normals and Jacobian from the spectral
 //! derivatives (eq. 47-48), persistent foam, RGBA8/RGBA16F packing and the mip chain (eq. 52-55).
+//!
+//! # Formats
+//! [`CascadeSurface::displacement_f16`] is RGBA16F (Dx, h, Dz, J); `normal_foam` is RGBA8
+//! (n.x, n.z, foam, smoothness) with mips at the offsets of eq. 55. Foam replaces eq. 50's raw
+//! Jacobian in B (J stays in the displacement's alpha). RGBA16F comes from `pack::f16_bits`
+//! (round to nearest even, bit-identical to F16C, NEON and `half`) inside the row loop.
+//!
+//! # Float copies on request
+//! `Surfaces::new` (the renderer's) keeps only the GPU formats plus float mips from level 1;
+//! `Surfaces::with_float_copies` (export, checks) also keeps the f32 displacement and level-0
+//! normals and foam. Level-0 floats are made as planes in a stack buffer per task, one row pair
+//! at a time (mip 1 is averaged there); the f32 copies are interleaved from it only when kept.
+//! Height queries read the f32 copy when present, else the RGBA16F (within 1 cm, tested).
+//!
+//! # Kernel outputs are arguments
+//! The row kernel takes every `&mut` output as its own argument: only arguments carry
+//! `noalias`; outputs inside a struct made LLVM guard the loop with pairwise overlap checks.
 
 use half::f16;
 use rayon::prelude::*;
@@ -8,7 +25,12 @@ use rayon::prelude::*;
 use crate::sim::grid::{GridSize, SplitField};
 use crate::sim::pack;
 use crate::sim::params::FoamParams;
-use crate::sim::simd::dispatch;
+
+mod mips;
+mod row;
+
+use self::mips::{build_mips, mip_planes};
+use self::row::{plane_row, surface_row, RowIn, RowOut, SurfaceConsts};
 
 /// Everything one cascade publishes per step, in GPU upload formats plus float copies for CPU
 /// queries and export. Allocated once; every step overwrites it in place.
@@ -112,189 +134,6 @@ pub struct SurfaceParams {
     pub foam: FoamParams,
     /// Seconds since the previous step (0 on the first), for foam growth and decay.
     pub dt: f32,
-}
-
-/// Constants of the surface stage for one step.
-#[derive(Clone, Copy)]
-struct SurfaceConsts {
-    lambda: f32,
-    keep: f32,
-    grow: f32,
-    threshold: f32,
-    len: f32,
-    smooth: f32,
-}
-
-/// What one row of the surface stage reads.
-#[derive(Clone, Copy)]
-struct RowIn<'a> {
-    fields: [&'a [f32]; 8],
-    row_sign: f32,
-    k: SurfaceConsts,
-}
-
-/// What one row of the surface stage writes.
-struct RowOut<'a> {
-    /// RGBA16F displacement as binary16 bits.
-    disp16: &'a mut [[u16; 4]],
-    /// Level-0 roughness-scaled normal x, y, z and foam, one plane each (mip level 1 reads them).
-    floats: [&'a mut [f32]; 4],
-    /// f32 Dx, h, Dz, J planes when the surface keeps float copies; else empty.
-    disp: [&'a mut [f32]; 4],
-    rgba: &'a mut [u32],
-    foam: &'a mut [f32],
-    /// Receives the row's max |Dx|, |h|, |Dz|.
-    max: &'a mut [f32; 3],
-}
-
-/// One texel row of stages 5-6. Every output is a plane or a plain integer array, so the loop
-/// vectorizes with no shuffles but the RGBA16F interleave. The outputs are separate arguments:
-/// only those carry `noalias` (struct fields do not), and without it LLVM guards the loop with
-/// pairwise overlap checks of all eleven outputs, which cost more than a 256-texel row.
-#[inline(always)]
-#[allow(clippy::too_many_arguments)]
-fn surface_row_kernel<const KEEP: bool>(
-    row: RowIn<'_>,
-    disp16: &mut [[u16; 4]],
-    p0: &mut [f32],
-    p1: &mut [f32],
-    p2: &mut [f32],
-    p3: &mut [f32],
-    d0: &mut [f32],
-    d1: &mut [f32],
-    d2: &mut [f32],
-    d3: &mut [f32],
-    rgba: &mut [u32],
-    foam: &mut [f32],
-    max: &mut [f32; 3],
-) {
-    let n = rgba.len();
-    let [f0r, f0i, f1r, f1i, f2r, f2i, f3r, f3i] = row.fields;
-    // Exact-length slices let the compiler drop bounds checks and vectorize.
-    let (f0r, f0i, f1r, f1i) = (&f0r[..n], &f0i[..n], &f1r[..n], &f1i[..n]);
-    let (f2r, f2i, f3r, f3i) = (&f2r[..n], &f2i[..n], &f3r[..n], &f3i[..n]);
-    let (foam, disp16) = (&mut foam[..n], &mut disp16[..n]);
-    let (p0, p1, p2, p3) = (&mut p0[..n], &mut p1[..n], &mut p2[..n], &mut p3[..n]);
-    let m = if KEEP { n } else { 0 };
-    let (d0, d1, d2, d3) = (&mut d0[..m], &mut d1[..m], &mut d2[..m], &mut d3[..m]);
-    let k = row.k;
-    // Maxima of |Dx|, |h|, |Dz| as the bits of non-negative floats, whose integer order is
-    // their numeric order: an integer max reduction vectorizes, a float one does not.
-    let mut mx = [0u32; 3];
-    for col in 0..n {
-        // (−1)^(x+y) undoes the centred spectrum (eq. 42-43).
-        let s = if col & 1 == 0 {
-            row.row_sign
-        } else {
-            -row.row_sign
-        };
-        let h = f0r[col] * s;
-        // D = +λ·(X, Z) with X = Σ i·u·h̃·e^{ik·x} (see `evolve`): for h = a·cos θ this is
-        // Dx = −λ·a·sin θ, the trochoid that gathers points under the crests (Gerstner).
-        let ls = k.lambda * s;
-        let dx = ls * f0i[col];
-        let dz = ls * f1r[col];
-        let hx = f1i[col] * s;
-        let hz = f2r[col] * s;
-        let dxx = ls * f2i[col];
-        let dzz = ls * f3r[col];
-        let dxz = ls * f3i[col];
-        // Jacobian of the horizontal map x ↦ x + D(x) (eq. 48); ∂Dz/∂x = ∂Dx/∂z.
-        let (jxx, jzz) = (1.0 + dxx, 1.0 + dzz);
-        let j = jxx * jzz - dxz * dxz;
-        // Normal of the displaced surface: ∂P/∂z × ∂P/∂x with P = x + (Dx, h, Dz); for λ = 0
-        // this is eq. 47's (−∂h/∂x, 1, −∂h/∂z). Folded texels (J < 0) flip so the normal keeps
-        // facing up.
-        let flip = if j < 0.0 { -1.0 } else { 1.0 };
-        let nx = (hz * dxz - jzz * hx) * flip;
-        let ny = j * flip;
-        let nz = (dxz * hx - jxx * hz) * flip;
-        let l2 = nx * nx + ny * ny + nz * nz;
-        // A degenerate normal (exact fold edge) becomes straight up.
-        let ok = l2 > 1e-20;
-        let inv = if ok { 1.0 / l2.sqrt() } else { 0.0 };
-        let (nx, ny, nz) = (nx * inv, if ok { ny * inv } else { 1.0 }, nz * inv);
-        let f = (foam[col] * k.keep + k.grow * (k.threshold - j).max(0.0)).min(1.0);
-        foam[col] = f;
-        disp16[col] = [
-            pack::f16_bits(dx),
-            pack::f16_bits(h),
-            pack::f16_bits(dz),
-            pack::f16_bits(j),
-        ];
-        if KEEP {
-            (d0[col], d1[col], d2[col], d3[col]) = (dx, h, dz, j);
-        }
-        (p0[col], p1[col], p2[col], p3[col]) = (nx * k.len, ny * k.len, nz * k.len, f);
-        rgba[col] = pack::pack_rgba8(nx, nz, f, k.smooth);
-        let abs_bits = |v: f32| v.to_bits() & 0x7fff_ffff;
-        mx = [
-            mx[0].max(abs_bits(dx)),
-            mx[1].max(abs_bits(h)),
-            mx[2].max(abs_bits(dz)),
-        ];
-    }
-    *max = mx.map(f32::from_bits);
-}
-
-macro_rules! surface_variant {
-    ($(#[$m:meta])* $name:ident, $keep:literal) => {
-        dispatch!(
-            $(#[$m])*
-            #[allow(clippy::too_many_arguments)]
-            fn $name(
-                row: RowIn<'_>,
-                disp16: &mut [[u16; 4]],
-                p0: &mut [f32],
-                p1: &mut [f32],
-                p2: &mut [f32],
-                p3: &mut [f32],
-                d0: &mut [f32],
-                d1: &mut [f32],
-                d2: &mut [f32],
-                d3: &mut [f32],
-                rgba: &mut [u32],
-                foam: &mut [f32],
-                max: &mut [f32; 3],
-            ) => surface_row_kernel::<$keep>
-        );
-    };
-}
-surface_variant!(
-    /// [`surface_row_kernel`] behind runtime ISA dispatch.
-    surface_row_skip,
-    false
-);
-surface_variant!(
-    /// [`surface_row_kernel`] that also writes the f32 displacement, behind ISA dispatch.
-    surface_row_keep,
-    true
-);
-
-/// Runs one row of the surface stage (writing `out.disp` when it is not empty).
-fn surface_row(row: RowIn<'_>, out: RowOut<'_>) {
-    let RowOut {
-        disp16,
-        floats: [p0, p1, p2, p3],
-        disp: [d0, d1, d2, d3],
-        rgba,
-        foam,
-        max,
-    } = out;
-    if d0.is_empty() {
-        surface_row_skip(row, disp16, p0, p1, p2, p3, d0, d1, d2, d3, rgba, foam, max)
-    } else {
-        surface_row_keep(row, disp16, p0, p1, p2, p3, d0, d1, d2, d3, rgba, foam, max)
-    }
-}
-
-/// Row `b / n` of one plane of `f`.
-fn plane_row(f: &SplitField, im: bool, b: usize, n: usize) -> &[f32] {
-    if im {
-        &f.im[b..b + n]
-    } else {
-        &f.re[b..b + n]
-    }
 }
 
 /// Stage 5-6 for one cascade: reads the transformed `fields` (see [`crate::sim::evolve`] for
@@ -518,110 +357,5 @@ impl<'a> Pair<'a> {
                     kept: kept.next(),
                 },
             )
-    }
-}
-
-/// The RGBA8 texel of an averaged (unnormalized) normal and foam `v` (eq. 51, 53).
-#[inline(always)]
-fn mip_texel(v: [f32; 4]) -> u32 {
-    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    let inv = if l > 1e-20 { 1.0 / l } else { 0.0 };
-    pack::pack_rgba8(v[0] * inv, v[2] * inv, v[3], pack::smoothness(l))
-}
-
-/// Mip level 1 from level 0 as planes: `src[2q + i]` is component q (normal x, y, z, foam) of
-/// source row i; writes one destination row of floats and RGBA8. Outputs are separate
-/// arguments so they carry `noalias` (see [`surface_row_kernel`]).
-#[inline(always)]
-fn mip_planes_kernel(src: [&[f32]; 8], dst: &mut [[f32; 4]], rgba: &mut [u32]) {
-    let side = rgba.len();
-    // Named, exact-length texel-pair slices: with an array of slices LLVM lost their lengths,
-    // kept the bounds checks and ran half the row in a scalar epilogue.
-    fn pairs(p: &[f32], side: usize) -> &[[f32; 2]] {
-        &p[..2 * side].as_chunks::<2>().0[..side]
-    }
-    let [x0, x1, y0, y1, z0, z1, w0, w1] = src;
-    let (x0, x1) = (pairs(x0, side), pairs(x1, side));
-    let (y0, y1) = (pairs(y0, side), pairs(y1, side));
-    let (z0, z1) = (pairs(z0, side), pairs(z1, side));
-    let (w0, w1) = (pairs(w0, side), pairs(w1, side));
-    let dst = &mut dst[..side];
-    for x in 0..side {
-        let avg = |a: [f32; 2], b: [f32; 2]| 0.25 * (a[0] + a[1] + b[0] + b[1]);
-        let v = [
-            avg(x0[x], x1[x]),
-            avg(y0[x], y1[x]),
-            avg(z0[x], z1[x]),
-            avg(w0[x], w1[x]),
-        ];
-        dst[x] = v;
-        rgba[x] = mip_texel(v);
-    }
-}
-
-dispatch!(
-    /// [`mip_planes_kernel`] behind runtime ISA dispatch.
-    fn mip_planes(src: [&[f32]; 8], dst: &mut [[f32; 4]], rgba: &mut [u32]) => mip_planes_kernel
-);
-
-/// One destination row of a mip level ≥ 2 from the two texel rows `src0`, `src1` above it.
-#[inline(always)]
-fn mip_row_kernel(src0: &[[f32; 4]], src1: &[[f32; 4]], dst: &mut [[f32; 4]], rgba: &mut [u32]) {
-    let side = rgba.len();
-    let (r0, r1) = (&src0[..2 * side], &src1[..2 * side]);
-    let (r0, r1) = (
-        &r0.as_chunks::<2>().0[..side],
-        &r1.as_chunks::<2>().0[..side],
-    );
-    let dst = &mut dst[..side];
-    for x in 0..side {
-        let ([a, b], [c, e]) = (r0[x], r1[x]);
-        let avg = |k: usize| 0.25 * (a[k] + b[k] + c[k] + e[k]);
-        let v = [avg(0), avg(1), avg(2), avg(3)];
-        dst[x] = v;
-        rgba[x] = mip_texel(v);
-    }
-}
-
-dispatch!(
-    /// [`mip_row_kernel`] behind runtime ISA dispatch.
-    fn mip_row(src0: &[[f32; 4]], src1: &[[f32; 4]], dst: &mut [[f32; 4]], rgba: &mut [u32]) => mip_row_kernel
-);
-
-/// Mip levels 2..=log₂N (level 1 is made with level 0) by unnormalized 2×2 box averaging
-/// (eq. 52); the averaged normal's length becomes smoothness (eq. 53) and the RGBA8 texel
-/// stores it re-normalized.
-fn build_mips(out: &mut CascadeSurface) {
-    let grid = out.grid;
-    for level in 2..grid.mip_levels() {
-        let src_off = out.floats_offset(level - 1);
-        let dst_off = out.floats_offset(level);
-        let rgba_off = pack::mip_offset(grid, level);
-        let side = grid.n() >> level;
-        let (lo, hi) = out.normal_floats.split_at_mut(dst_off);
-        let src = &lo[src_off..];
-        let dst = &mut hi[..side * side];
-        let rgba = &mut out.normal_foam[rgba_off..rgba_off + side * side];
-        let src_side = side * 2;
-        // Small levels are cheaper than a task hand-off: run them on this thread.
-        let rows_per_task = (4096 / side).max(1);
-        dst.par_chunks_mut(side * rows_per_task)
-            .zip(rgba.par_chunks_mut(side * rows_per_task))
-            .enumerate()
-            .for_each(|(task, (drows, prows))| {
-                for (i, (drow, prow)) in drows
-                    .chunks_mut(side)
-                    .zip(prows.chunks_mut(side))
-                    .enumerate()
-                {
-                    let y = task * rows_per_task + i;
-                    mip_row(
-                        &src[2 * y * src_side..(2 * y + 1) * src_side],
-                        &src[(2 * y + 1) * src_side..(2 * y + 2) * src_side],
-                        drow,
-                        prow,
-                    );
-                }
-            });
     }
 }
