@@ -1,26 +1,52 @@
 //! Frame-time tests on lavapipe (validation layer on): per scenario p50/p95/p99 of frame
 //! total, sim step, sim wait, LOD, record, submit and GPU pass, printed as a table and written
-//! to `target/frame-times.json`. The gates are ratios measured in this run, with scenarios
-//! interleaved round by round so the host's drift hits them alike (a ratio is the median over
-//! rounds of the ratio within each round):
-//! - multiview records half the draws of two-pass and its frame time is ≤ 1.05× two-pass;
-//! - frame time at ocean size 8192 m ≤ 1.25× that at 1024 m (cost grows with log(size));
+//! to `target/frame-times.json`.
+//!
+//! The machines CI and developers get differ (Zen 1 without AVX-512 to Zen 5 with it) and so
+//! does the balance between their CPU work and lavapipe's, so every gate is made of quantities
+//! that hold on every kind:
+//! - counts that do not depend on the machine: multiview records half the draws of two-pass;
+//!   the LOD's triangles grow with log(size), not size: over the same path at 1024, 2048, 4096
+//!   and 8192 m, each doubling adds about the same number of triangles (the largest increment
+//!   at most [`TRIANGLE_STEP_SPREAD`] × the smallest), so 8192 m costs a bounded multiple of
+//!   1024 m, not 64×;
+//! - time ratios measured in this run with margins that hold on the slowest kind, scenarios
+//!   interleaved round by round so the host's drift hits them alike (a ratio is the median over
+//!   rounds of the ratio within each round): multiview ≤ [`MULTIVIEW_TIME`] × two-pass, 8192 m
+//!   ≤ [`SIZE_TIME`] × 1024 m;
+//! - a ceiling on the frame time that scales with a calibration measured in the same rounds
+//!   (a fixed scalar FFT workload: [`CALIBRATION_CEILING`]), not with a file measured elsewhere;
 //! - the render thread's wait for simulation results has p95 < 0.5 ms when the sim step is
-//!   shorter than the frame;
-//! - plus a generous ceiling: p50 frame time ≤ 2× `tests/frame_times_baseline.json` (p50s
-//!   measured on the CI machine kind, AMD EPYC 2 vCPU, test profile).
+//!   shorter than the frame.
 
 mod common;
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
+use std::time::{Duration, Instant};
 
 use common::gpu;
 use vr_ocean::app::{FrameTimes, NoHooks, RunReport, Timing};
-use vr_ocean::lod::{LodSettings, OceanSize, QualityPreset};
+use vr_ocean::lod::{
+    FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset, StereoFrustum,
+};
 use vr_ocean::render::StereoMode;
-use vr_ocean::sim::OceanConfig;
-use vr_ocean::xr::desktop::CameraPath;
+use vr_ocean::sim::fft::{Backend, Fft2d};
+use vr_ocean::sim::{GridSize, OceanConfig, SplitField};
+use vr_ocean::xr::desktop::{eye_views, CameraPath};
+
+/// Largest over smallest triangle increment per doubling of the ocean size (1.0 would be exactly
+/// linear in log(size); quadratic growth in size would give 4).
+const TRIANGLE_STEP_SPREAD: f64 = 1.5;
+/// Multiview frame time over two-pass (measured 0.85-0.94 on Zen 3 and Zen 5).
+const MULTIVIEW_TIME: f64 = 1.10;
+/// Frame time at 8192 m over 1024 m (measured 0.84-1.01 on Zen 3/Zen 5, 1.31 on Zen 1, where
+/// lavapipe's vertex work weighs more: AVX2 runs as two 128-bit halves there).
+const SIZE_TIME: f64 = 1.6;
+/// Multiview-1024 frame time in units of the calibration workload (measured 7.6-11.7 per round
+/// on Zen 3): 3× that, room for machines whose lavapipe/scalar balance differs, while a
+/// regression that makes the frame 3× slower fails.
+const CALIBRATION_CEILING: f64 = 30.0;
 
 struct Scenario {
     name: &'static str,
@@ -28,6 +54,7 @@ struct Scenario {
     size: f32,
     times: FrameTimes,
     draws: u32,
+    triangles: f64,
     /// p50 frame time of each round, for paired per-round ratios.
     round_p50: Vec<f64>,
 }
@@ -55,17 +82,89 @@ fn path() -> CameraPath {
     .unwrap()
 }
 
-fn baseline() -> Vec<(String, f64)> {
-    let text = include_str!("frame_times_baseline.json");
-    // {"name": p50_ms, ...}: one entry per line.
-    text.lines()
-        .filter_map(|l| {
-            let (k, v) = l.split_once(':')?;
-            let k = k.trim().trim_matches('"').to_string();
-            let v = v.trim().trim_end_matches(',').parse().ok()?;
-            Some((k, v))
+/// Mean triangles the LOD draws per frame along [`path`] (the headless clock's frame times) at
+/// ocean size `size`, with a fixed displacement padding: the geometry cost, machine-free.
+fn lod_triangles(size: f32) -> f64 {
+    let mut lod = OceanLod::new(LodSettings::new(
+        QualityPreset::Medium,
+        OceanSize::new(size).unwrap(),
+    ));
+    let path = path();
+    let pad = MaxDisplacement::new([1.0, 1.5, 1.0]).unwrap();
+    let mut sum = 0u64;
+    for frame in 0..FRAMES {
+        let (position, orientation) = path.pose(frame as f64 / 72.0);
+        let views = eye_views(position, orientation);
+        let eyes = StereoFrustum::new(views[0], views[1]).unwrap();
+        let stats = lod
+            .update(&FrameInput {
+                viewer: eyes.centre(),
+                culling: Some(&eyes),
+                max_displacement: pad,
+            })
+            .unwrap();
+        sum += u64::from(stats.triangles);
+    }
+    sum as f64 / FRAMES as f64
+}
+
+/// The calibration workload: four inverse FFTs of 256² on the portable scalar backend, the
+/// same instructions on every x86-64 machine. Returns the median of 5 timings (ms).
+struct Calibration {
+    fft: Fft2d,
+    fields: Vec<SplitField>,
+    scratch: Vec<SplitField>,
+}
+
+impl Calibration {
+    fn new() -> Self {
+        let grid = GridSize::new(256).unwrap();
+        let mut fields: Vec<SplitField> = (0..4).map(|_| SplitField::zeros(grid)).collect();
+        for (i, f) in fields.iter_mut().enumerate() {
+            let (re, im) = f.planes_mut();
+            for (j, (r, m)) in re.iter_mut().zip(im.iter_mut()).enumerate() {
+                *r = ((i * 31 + j * 7) % 97) as f32 * 0.01;
+                *m = ((i * 17 + j * 13) % 89) as f32 * 0.01;
+            }
+        }
+        Self {
+            fft: Fft2d::with_backend(grid, Backend::Scalar).unwrap(),
+            fields,
+            scratch: (0..4).map(|_| SplitField::zeros(grid)).collect(),
+        }
+    }
+
+    fn measure(&mut self) -> f64 {
+        let mut t: Vec<Duration> = (0..5)
+            .map(|_| {
+                let start = Instant::now();
+                self.fft.inverse_batch(&mut self.fields, &mut self.scratch);
+                start.elapsed()
+            })
+            .collect();
+        t.sort();
+        t[2].as_secs_f64() * 1e3
+    }
+}
+
+/// The median over rounds of the per-round ratios a/b (scenarios run back to back there): a
+/// burst of host load spoils one round, not the result.
+fn median_ratio(a: &[f64], b: &[f64]) -> (f64, Vec<f64>) {
+    let mut v: Vec<f64> = a.iter().zip(b).map(|(x, y)| x / y).collect();
+    v.sort_by(f64::total_cmp);
+    ((v[(v.len() - 1) / 2] + v[v.len() / 2]) / 2.0, v)
+}
+
+fn cpu_model() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            let l = s.lines().find(|l| l.starts_with("model name"))?.to_string();
+            let family = s.lines().find(|l| l.starts_with("cpu family"))?.to_string();
+            let pick = |l: &str| l.split(':').nth(1).unwrap_or("").trim().to_string();
+            Some(format!("{} (family {})", pick(&l), pick(&family)))
         })
-        .collect()
+        .unwrap_or_else(|| std::env::consts::ARCH.to_string())
 }
 
 #[test]
@@ -81,30 +180,39 @@ fn frame_times_on_lavapipe() {
         size,
         times: FrameTimes::with_capacity(ROUNDS * FRAMES as usize),
         draws: 0,
+        triangles: 0.0,
         round_p50: Vec::with_capacity(ROUNDS),
     });
+    let mut calibration = Calibration::new();
+    let mut round_calibration = Vec::with_capacity(ROUNDS);
     for round in 0..ROUNDS {
-        // Alternate the order (ABC, CBA, ...) so a drift within a round cancels out.
+        // Alternate the order (ABC, CBA, ...) so a drift within a round cancels out; the
+        // calibration runs at the round's middle.
         let order: [usize; 3] = if round % 2 == 0 { [0, 1, 2] } else { [2, 1, 0] };
-        for i in order {
+        for (k, i) in order.into_iter().enumerate() {
+            if k == 1 {
+                round_calibration.push(calibration.measure());
+            }
             let s = &mut scenarios[i];
             let r: RunReport =
                 gpu::render_with(&options(s), path(), FRAMES, 256, 256, &mut NoHooks);
             s.times.merge(&r.times);
             s.draws = s.draws.max(r.max_draws);
+            s.triangles = r.mean_triangles;
             s.round_p50
                 .push(r.times.percentiles(Timing::FrameTotal).p50);
         }
     }
 
+    let cpu = cpu_model();
     let mut table = String::new();
-    let mut json = String::from("{\n");
+    let _ = writeln!(table, "CPU: {cpu}");
     let _ = writeln!(
         table,
-        "{:<16} {:<11} {:>8} {:>8} {:>8}   (ms; draws)",
+        "{:<16} {:<11} {:>8} {:>8} {:>8}   (ms; draws, triangles)",
         "scenario", "timing", "p50", "p95", "p99"
     );
-    for (i, s) in scenarios.iter().enumerate() {
+    for s in &scenarios {
         for (name, p) in vr_ocean::app::timing::TIMINGS.iter().zip(s.times.all()) {
             let _ = writeln!(
                 table,
@@ -112,53 +220,98 @@ fn frame_times_on_lavapipe() {
                 s.name, name, p.p50, p.p95, p.p99
             );
         }
-        let _ = writeln!(table, "{:<16} draws {}", s.name, s.draws);
-        let sep = if i + 1 < scenarios.len() { "," } else { "" };
         let _ = writeln!(
-            json,
-            "\"{}\": {{\"draws\": {}, \"timings_ms\": {}}}{sep}",
-            s.name,
-            s.draws,
-            serde_json::to_string(&s.times).unwrap()
+            table,
+            "{:<16} draws {}, triangles {:.0}",
+            s.name, s.draws, s.triangles
         );
     }
-    json.push_str("}\n");
+    let [mv, tp, big] = &scenarios;
+    let (r_stereo, v_stereo) = median_ratio(&mv.round_p50, &tp.round_p50);
+    let (r_size, v_size) = median_ratio(&big.round_p50, &mv.round_p50);
+    let (r_cal, v_cal) = median_ratio(&mv.round_p50, &round_calibration);
+    let sweep: Vec<(f32, f64)> = [1024.0, 2048.0, 4096.0, 8192.0]
+        .into_iter()
+        .map(|size| (size, lod_triangles(size)))
+        .collect();
+    let steps: Vec<f64> = sweep.windows(2).map(|w| w[1].1 - w[0].1).collect();
+    let spread = steps.iter().copied().fold(f64::MIN, f64::max)
+        / steps.iter().copied().fold(f64::MAX, f64::min);
+    let mut calib_sorted = round_calibration.clone();
+    calib_sorted.sort_by(f64::total_cmp);
+    let _ = writeln!(
+        table,
+        "calibration (4 scalar FFTs of 256^2): {:.3} ms median over rounds",
+        calib_sorted[ROUNDS / 2]
+    );
+    let _ = writeln!(
+        table,
+        "LOD triangles per frame at 1024/2048/4096/8192 m: {:.0?}; increments per doubling \
+         {steps:.0?}, largest / smallest {spread:.3} (gate <= {TRIANGLE_STEP_SPREAD}); \
+         rendered 8192 m / 1024 m {:.3}",
+        sweep.iter().map(|s| s.1).collect::<Vec<_>>(),
+        big.triangles / mv.triangles
+    );
+    let _ = writeln!(
+        table,
+        "multiview / two-pass frame time: {r_stereo:.3} (gate <= {MULTIVIEW_TIME}), per round {v_stereo:.3?}"
+    );
+    let _ = writeln!(
+        table,
+        "8192 m / 1024 m frame time: {r_size:.3} (gate <= {SIZE_TIME}), per round {v_size:.3?}"
+    );
+    let _ = writeln!(
+        table,
+        "multiview-1024 frame / calibration: {r_cal:.1} (gate <= {CALIBRATION_CEILING}), per round {v_cal:.1?}"
+    );
     println!("{table}");
+
+    let json = serde_json::json!({
+        "cpu": cpu,
+        "calibration_ms": calib_sorted[ROUNDS / 2],
+        "ratios": {
+            "lod_triangles_by_size": sweep,
+            "triangle_step_spread": spread,
+            "multiview_over_two_pass": r_stereo,
+            "size_8192_over_1024": r_size,
+            "frame_over_calibration": r_cal,
+        },
+        "scenarios": scenarios.iter().map(|s| serde_json::json!({
+            "name": s.name,
+            "draws": s.draws,
+            "mean_triangles": s.triangles,
+            "timings_ms": &s.times,
+        })).collect::<Vec<_>>(),
+    });
     let target: PathBuf = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
         .parent()
         .unwrap()
         .to_path_buf();
     let out = target.join("frame-times.json");
-    std::fs::write(&out, &json).unwrap();
+    std::fs::write(&out, serde_json::to_string_pretty(&json).unwrap()).unwrap();
     println!("wrote {}", out.display());
 
-    // p50 over every frame of every round.
-    let p50 = |s: &Scenario| s.times.percentiles(Timing::FrameTotal).p50;
-    let [mv, tp, big] = &scenarios;
     assert_eq!(
         2 * mv.draws,
         tp.draws,
         "multiview must record half the draws"
     );
-    // Ratios are paired within each round (scenarios run back to back there), and the median
-    // over rounds is the verdict: a burst of host load spoils one round, not the result.
-    let ratio = |a: &Scenario, b: &Scenario| {
-        let mut v: Vec<f64> = a
-            .round_p50
-            .iter()
-            .zip(&b.round_p50)
-            .map(|(x, y)| x / y)
-            .collect();
-        v.sort_by(f64::total_cmp);
-        println!("  per round: {v:.3?}");
-        (v[(v.len() - 1) / 2] + v[v.len() / 2]) / 2.0
-    };
-    let r = ratio(mv, tp);
-    println!("multiview / two-pass frame time (median of per-round ratios): {r:.3}");
-    assert!(r <= 1.05, "multiview frame time {r:.3}x two-pass");
-    let r = ratio(big, mv);
-    println!("S=8192 / S=1024 frame time (median of per-round ratios): {r:.3}");
-    assert!(r <= 1.25, "frame time at 8192 m is {r:.3}x that at 1024 m");
+    assert!(
+        steps.iter().all(|&d| d > 0.0) && spread <= TRIANGLE_STEP_SPREAD,
+        "triangles per doubling of the ocean size {steps:.0?}: not linear in log(size)"
+    );
+    assert!(
+        r_stereo <= MULTIVIEW_TIME,
+        "multiview frame time {r_stereo:.3}x two-pass"
+    );
+    assert!(
+        r_size <= SIZE_TIME,
+        "frame time at 8192 m is {r_size:.3}x that at 1024 m"
+    );
+    assert!(
+        r_cal <= CALIBRATION_CEILING,
+        "multiview-1024 frame time is {r_cal:.1}x the calibration workload ({cpu})"
+    );
     for s in &scenarios {
         let step = s.times.percentiles(Timing::SimStep).p95;
         let frame = s.times.percentiles(Timing::FrameTotal).p50;
@@ -170,17 +323,5 @@ fn frame_times_on_lavapipe() {
                 s.name
             );
         }
-    }
-    for (name, base) in baseline() {
-        let s = scenarios
-            .iter()
-            .find(|s| s.name == name)
-            .unwrap_or_else(|| panic!("baseline names unknown scenario {name}"));
-        let now = p50(s);
-        println!("{name}: p50 {now:.2} ms, baseline {base:.2} ms");
-        assert!(
-            now <= 2.0 * base,
-            "{name}: p50 {now:.2} ms > 2x baseline {base:.2} ms"
-        );
     }
 }

@@ -107,6 +107,9 @@ pub struct RunReport {
     pub times: FrameTimes,
     /// Most draws recorded in one frame.
     pub max_draws: u32,
+    /// Mean triangles drawn per timed frame (patches and skirt, both eyes' union), from the
+    /// LOD: a measure of geometry cost that does not depend on the machine.
+    pub mean_triangles: f64,
     /// Validation errors reported during the run (0 without the layer).
     pub validation_errors: u32,
     /// The device's name.
@@ -169,6 +172,9 @@ struct Frames<'a> {
 struct RunStats {
     times: FrameTimes,
     max_draws: u32,
+    /// Triangles drawn over the timed frames, and how many frames that is.
+    triangles: u64,
+    triangle_frames: u64,
     frames: u64,
     recent: live::RecentFrames,
     text: String,
@@ -217,6 +223,8 @@ impl<'a> Frames<'a> {
             stats: RunStats {
                 times: FrameTimes::with_capacity(16_384),
                 max_draws: 0,
+                triangles: 0,
+                triangle_frames: 0,
                 frames: 0,
                 recent: live::RecentFrames::default(),
                 text: String::with_capacity(256),
@@ -286,11 +294,15 @@ impl<'a> Frames<'a> {
     fn update_lod(&mut self, frame: &FrameState) -> Result<(), AppError> {
         let stereo = StereoFrustum::new(frame.views[0], frame.views[1])?;
         let surfaces = self.sim.surfaces();
-        self.lod.update(&lod::FrameInput {
+        let stats = self.lod.update(&lod::FrameInput {
             viewer: stereo.centre(),
             culling: Some(&stereo),
             max_displacement: MaxDisplacement::new(surfaces.max_displacement())?,
         })?;
+        if frame.should_render && frame.index >= self.opts.warmup {
+            self.stats.triangles += u64::from(stats.triangles);
+            self.stats.triangle_frames += 1;
+        }
         Ok(())
     }
 
@@ -360,6 +372,7 @@ impl<'a> Frames<'a> {
             frames: self.stats.frames,
             times: self.stats.times,
             max_draws: self.stats.max_draws,
+            mean_triangles: self.stats.triangles as f64 / self.stats.triangle_frames.max(1) as f64,
             validation_errors: 0,
             device: gpu.device_name.clone(),
         };

@@ -37,6 +37,7 @@ struct FrameTimesFile<'a> {
     frames: u64,
     stereo: &'a str,
     max_draws: u32,
+    mean_triangles: f64,
     timings_ms: &'a FrameTimes,
 }
 
@@ -47,6 +48,7 @@ pub fn write_frame_times(path: &Path, report: &RunReport, stereo: &str) -> CmdRe
         frames: report.frames,
         stereo,
         max_draws: report.max_draws,
+        mean_triangles: report.mean_triangles,
         timings_ms: &report.times,
     };
     let mut json = serde_json::to_string_pretty(&file)?;
