@@ -1,4 +1,5 @@
-//! SPIR-V of the GLSL in `shaders/`, compiled by `build.rs` (glslang, Vulkan 1.1 target).
+//! SPIR-V of the GLSL in `shaders/` (Vulkan 1.1): compiled by `build.rs` with glslang, or the
+//! committed `shaders/spirv/` on machines without it.
 
 /// SPIR-V words, 4-byte aligned as `vkCreateShaderModule` requires.
 macro_rules! spirv {

@@ -21,6 +21,11 @@ mod apk_check;
 mod monado;
 mod openxr_loader;
 
+/// The shader table and the sources fingerprint, shared with `build.rs`.
+mod shader_table {
+    include!("../../shaders/shader_table.rs");
+}
+
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
@@ -63,6 +68,14 @@ const APT_PACKAGES: &[&str] = &[
     "zip",
     "unzip",
 ];
+
+/// What running the ocean needs on a fresh machine (`cargo xtask run`): the Vulkan loader and
+/// a driver (Mesa's, with lavapipe for machines without a GPU). Building needs nothing more:
+/// the SPIR-V is committed (`shaders/spirv/`).
+const RUN_APT_PACKAGES: &[&str] = &["libvulkan1", "mesa-vulkan-drivers"];
+
+/// What `cargo xtask shaders` needs: glslang's compiler.
+const SHADER_APT_PACKAGES: &[&str] = &["glslang-tools"];
 
 /// Extra packages for `cargo xtask bench` (the `fftw` feature links libfftw3f).
 const BENCH_APT_PACKAGES: &[&str] = &["libfftw3-dev"];
@@ -216,10 +229,18 @@ commands:
           cargo xtask apk-check
         --quick      skip the slow steps (frame times, Monado, APK, aarch64)
         --no-setup   install nothing; only run the checks
-  run [ARGS...]
-        cargo run --release --bin vr-ocean -- ARGS...
+  run [--no-setup] [ARGS...]
+        Installs what running needs when it is missing (the Vulkan loader and Mesa's
+        drivers: libvulkan1 mesa-vulkan-drivers, via apt-get, using sudo when not root),
+        then cargo run --release --bin vr-ocean -- ARGS...
         Without ARGS: the ocean in a window (keys in the README); with no display it
-        renders 144 frames headless into ./vr-ocean-headless/ and says so.
+        renders 144 frames headless into ./vr-ocean-headless/ and says where.
+        --no-setup   install nothing
+  shaders
+        Installs glslang-tools if missing, compiles shaders/*.vert|frag to
+        shaders/spirv/*.spv (Vulkan 1.1) and records the sources' fingerprint there.
+        Run it after editing a shader and commit the result: builds on machines
+        without glslang use those files.
   bench [--criterion] [--no-setup] [--] [ARGS...]
         Installs libfftw3-dev if missing, then
           cargo run --release --features fftw --bin vr-ocean -- bench ARGS...
@@ -264,6 +285,8 @@ fn main() -> ExitCode {
     let result = match cmd.as_str() {
         "test" => parse_test_args(rest).and_then(|opts| cmd_test(&opts)),
         "run" => cmd_run(rest),
+        "shaders" if rest.is_empty() => cmd_shaders(),
+        "shaders" => Err(Failure::Usage("shaders takes no arguments".into())),
         "bench" => parse_bench_args(rest).and_then(|opts| cmd_bench(&opts)),
         "monado-root" if rest.is_empty() => monado::ensure_root().map(|root| {
             println!("{}", root.display());
@@ -449,6 +472,13 @@ fn cmd_test(opts: &TestOpts) -> Result<()> {
 }
 
 fn cmd_run(args: &[String]) -> Result<()> {
+    let (no_setup, args) = match args.split_first() {
+        Some((first, rest)) if first == "--no-setup" => (true, rest),
+        _ => (false, args),
+    };
+    if !no_setup {
+        ensure_apt_packages(RUN_APT_PACKAGES)?;
+    }
     if args.is_empty() {
         say("opening the ocean window (WASD/QE to move, mouse button held to look, Esc quits; headless PNGs if there is no display)");
     }
@@ -458,6 +488,43 @@ fn cmd_run(args: &[String]) -> Result<()> {
         cmd.arg("--").args(args);
     }
     run_checked(cmd.current_dir(workspace_root()))
+}
+
+/// Compiles every shader of the table into `shaders/spirv/` and records the fingerprint of
+/// the sources they came from.
+fn cmd_shaders() -> Result<()> {
+    ensure_apt_packages(SHADER_APT_PACKAGES)?;
+    let src = workspace_root().join("shaders");
+    let dir = src.join("spirv");
+    std::fs::create_dir_all(&dir)
+        .map_err(|e| Failure::Msg(format!("cannot create {}: {e}", dir.display())))?;
+    let tool = std::env::var("GLSLANG_VALIDATOR").unwrap_or_else(|_| "glslangValidator".into());
+    for (file, stem, defines) in shader_table::SHADERS {
+        let out = dir.join(format!("{stem}.spv"));
+        let mut cmd = Command::new(&tool);
+        cmd.args(shader_table::glslang_args(
+            &src.join(file),
+            &out,
+            &src,
+            defines,
+        ));
+        let text = capture(&mut cmd)?;
+        say(&format!(
+            "{stem}.spv: {}",
+            text.lines().last().unwrap_or("ok").trim()
+        ));
+    }
+    let fingerprint = shader_table::sources_fingerprint(&src)
+        .map_err(|e| Failure::Msg(format!("cannot read {}: {e}", src.display())))?;
+    let file = dir.join(shader_table::SOURCES_FINGERPRINT_FILE);
+    std::fs::write(&file, format!("{fingerprint}\n"))
+        .map_err(|e| Failure::Msg(format!("cannot write {}: {e}", file.display())))?;
+    say(&format!(
+        "wrote {} ({} modules, sources {fingerprint})",
+        dir.display(),
+        shader_table::SHADERS.len()
+    ));
+    Ok(())
 }
 
 fn cmd_bench(opts: &BenchOpts) -> Result<()> {

@@ -1,0 +1,72 @@
+// Shared by `build.rs` and `xtask` (through `include!`): which SPIR-V modules are made from
+// which GLSL, and the fingerprint of the GLSL that `shaders/spirv/` was generated from.
+
+/// (source, output stem, extra defines): the vertex shader, which picks the eye, is built twice,
+/// with and without `MULTIVIEW`, for the multiview pass and the two-pass fallback.
+pub const SHADERS: &[(&str, &str, &[&str])] = &[
+    ("ocean.vert", "ocean_mv.vert", &["MULTIVIEW=1"]),
+    ("ocean.vert", "ocean.vert", &[]),
+    ("ocean.frag", "ocean.frag", &[]),
+];
+
+/// The file in `shaders/spirv/` that records the fingerprint of the sources it was made from.
+pub const SOURCES_FINGERPRINT_FILE: &str = "sources.fnv64";
+
+/// FNV-1a (64-bit) over every GLSL file in `dir` (`*.vert`, `*.frag`, `*.glsl`, by name) and the
+/// shader table: it changes whenever a source or a define does.
+pub fn sources_fingerprint(dir: &std::path::Path) -> std::io::Result<String> {
+    let mut files: Vec<std::path::PathBuf> = std::fs::read_dir(dir)?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            p.extension()
+                .and_then(|e| e.to_str())
+                .is_some_and(|e| matches!(e, "vert" | "frag" | "glsl"))
+        })
+        .collect();
+    files.sort();
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |bytes: &[u8]| {
+        for &b in bytes {
+            h ^= u64::from(b);
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+        h ^= 0xff;
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    };
+    for f in &files {
+        eat(f.file_name().and_then(|n| n.to_str()).unwrap_or("").as_bytes());
+        // Line endings do not matter (a checkout may convert them).
+        let text = std::fs::read(f)?;
+        let text: Vec<u8> = text.into_iter().filter(|&b| b != b'\r').collect();
+        eat(&text);
+    }
+    for (src, stem, defines) in SHADERS {
+        eat(src.as_bytes());
+        eat(stem.as_bytes());
+        for d in *defines {
+            eat(d.as_bytes());
+        }
+    }
+    Ok(format!("{h:016x}"))
+}
+
+/// The glslangValidator arguments that compile `input` to `output` with `defines`, for Vulkan
+/// 1.1 without debug info; `include_dir` holds `common.glsl`.
+pub fn glslang_args(
+    input: &std::path::Path,
+    output: &std::path::Path,
+    include_dir: &std::path::Path,
+    defines: &[&str],
+) -> Vec<std::ffi::OsString> {
+    let mut args: Vec<std::ffi::OsString> = ["-V", "--target-env", "vulkan1.1", "-g0", "-o"]
+        .iter()
+        .map(|s| s.into())
+        .collect();
+    args.push(output.into());
+    args.push(format!("-I{}", include_dir.display()).into());
+    for d in defines {
+        args.push(format!("-D{d}").into());
+    }
+    args.push(input.into());
+    args
+}
