@@ -48,10 +48,14 @@ fn client() {
     let mut xr = OpenXr::new(OpenXrOptions {
         frames: Some(TO + 10),
         validation: Validation::Off,
+        // The depth swapchain's acquire/release and layer chain are counted too.
+        submit_depth: true,
         ..OpenXrOptions::default()
     })
     .unwrap_or_else(|e| panic!("OpenXR set-up: {e}"));
-    let opts = gpu::small_options(StereoMode::Multiview, Vec::new());
+    let mut opts = gpu::small_options(StereoMode::Multiview, Vec::new());
+    // Submitted depth is single-sample.
+    opts.renderer.msaa = vr_ocean::render::Msaa::X1;
     let mut hooks = CountFrames { counted: None };
     let report = app::run(&mut xr, &opts, &mut hooks).unwrap_or_else(|e| panic!("run: {e}"));
     let summary = xr.summary();

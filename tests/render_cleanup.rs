@@ -7,7 +7,7 @@ mod common;
 use ash::vk;
 use vr_ocean::lod::OceanLod;
 use vr_ocean::render::memory::{Image, ImageDesc};
-use vr_ocean::render::{OceanRenderer, RenderError, StereoMode, TargetImages, DEPTH_FORMAT};
+use vr_ocean::render::{Msaa, OceanRenderer, RenderError, StereoMode, TargetImages, DEPTH_FORMAT};
 use vr_ocean::xr::desktop::{EyeSize, HeadlessXr};
 use vr_ocean::xr::FrameLoop;
 
@@ -22,8 +22,9 @@ enum Depth {
 
 /// Tries to create a renderer with the `successes + 1`-th creation failing. Returns whether
 /// creation succeeded (the injection came too late); panics on a leak or a wrong error.
-fn attempt(stereo: StereoMode, depth: Depth, successes: u32) -> bool {
-    let opts = common::gpu::small_options(stereo, Vec::new());
+fn attempt(stereo: StereoMode, depth: Depth, msaa: Msaa, successes: u32) -> bool {
+    let mut opts = common::gpu::small_options(stereo, Vec::new());
+    opts.renderer.msaa = msaa;
     let size = EyeSize::new(48, 40).unwrap();
     let xr = HeadlessXr::new(
         &common::gpu::validated(),
@@ -45,6 +46,7 @@ fn attempt(stereo: StereoMode, depth: Depth, successes: u32) -> bool {
                         extent: size.extent(),
                         layers: 2,
                         mips: 1,
+                        samples: vk::SampleCountFlags::TYPE_1,
                         usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
                         aspect: vk::ImageAspectFlags::DEPTH,
                         transient: false,
@@ -90,12 +92,14 @@ fn attempt(stereo: StereoMode, depth: Depth, successes: u32) -> bool {
 
 #[test]
 fn a_failure_at_any_creation_step_leaks_nothing() {
-    for (stereo, depth) in [
-        (StereoMode::Multiview, Depth::Given),
-        (StereoMode::TwoPass, Depth::Own),
+    // Given depth images are single-sample (kept for the compositor); our own can be
+    // multisampled, with the multisampled colour and the resolve.
+    for (stereo, depth, msaa) in [
+        (StereoMode::Multiview, Depth::Given, Msaa::X1),
+        (StereoMode::TwoPass, Depth::Own, Msaa::X4),
     ] {
         let mut steps = 0;
-        while !attempt(stereo, depth, steps) {
+        while !attempt(stereo, depth, msaa, steps) {
             steps += 1;
             assert!(steps < 500, "renderer creation never succeeds");
         }
@@ -105,6 +109,9 @@ fn a_failure_at_any_creation_step_leaks_nothing() {
             steps > 30,
             "{stereo:?}/{depth:?}: only {steps} creations seen"
         );
-        println!("{stereo:?}/{depth:?}: {steps} creation steps, each failure left nothing behind");
+        println!(
+            "{stereo:?}/{depth:?}/{msaa:?}: {steps} creation steps, each failure left nothing \
+             behind"
+        );
     }
 }

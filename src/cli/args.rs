@@ -6,7 +6,7 @@ use clap::{Args, ValueEnum};
 use vr_ocean::app::RunOptions;
 use vr_ocean::base::ParamError;
 use vr_ocean::lod::{LodSettings, OceanSize, QualityPreset};
-use vr_ocean::render::{ContextOptions, RendererSettings, StereoMode, Validation};
+use vr_ocean::render::{ContextOptions, Msaa, RendererSettings, StereoMode, Validation};
 use vr_ocean::sim::{FoamParams, GridSize, OceanConfig, SpectrumKind, WaveParams};
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -139,6 +139,9 @@ pub struct ViewArgs {
     /// Load the Khronos validation layer (fails if it is not installed).
     #[arg(long)]
     pub validation: bool,
+    /// Multisample anti-aliasing: samples per pixel (1, 2 or 4).
+    #[arg(long, default_value_t = 4)]
+    pub msaa: u32,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -163,6 +166,11 @@ impl ViewArgs {
                     StereoArg::Multiview => StereoMode::Multiview,
                     StereoArg::TwoPass => StereoMode::TwoPass,
                 },
+                msaa: Msaa::from_samples(self.msaa).ok_or(ParamError::new(
+                    "msaa",
+                    self.msaa as f64,
+                    "1, 2 or 4 samples per pixel",
+                ))?,
                 ..RendererSettings::default()
             },
             capture,

@@ -10,6 +10,7 @@ use super::CmdResult;
 use vr_ocean::app::{self, FrameTimes};
 use vr_ocean::base::ParamError;
 use vr_ocean::export;
+use vr_ocean::render::Msaa;
 use vr_ocean::xr::desktop::window::{OpenError, WindowOptions, WindowSize, WindowXr, KEYS_HELP};
 use vr_ocean::xr::desktop::{self, CameraPath, EyeSize, HeadlessXr};
 use vr_ocean::xr::openxr::quest::{Foveation, PerfLevel};
@@ -96,6 +97,10 @@ pub struct XrArgs {
     /// Height of the floor you stand on above the mean sea level (m).
     #[arg(long, allow_negative_numbers = true, default_value_t = 2.9)]
     pub deck_height: f32,
+    /// Submit depth to the compositor (XR_KHR_composition_layer_depth), for runtimes whose
+    /// reprojection uses it (PC runtimes); off: depth stays transient.
+    #[arg(long)]
+    pub submit_depth: bool,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -241,6 +246,13 @@ pub fn xr_cmd(a: XrArgs) -> CmdResult {
         return Err(ParamError::new("frames", 0.0, "at least 1 frame").into());
     }
     let opts = a.view.run_options(Vec::new(), 10)?;
+    if a.submit_depth && opts.renderer.msaa != Msaa::X1 {
+        return Err(
+            "--submit-depth needs --msaa 1: the multisampled depth is not resolved, so there \
+             is no single-sample depth to hand the compositor"
+                .into(),
+        );
+    }
     let perf = |p: PerfArg| match p {
         PerfArg::PowerSavings => PerfLevel::PowerSavings,
         PerfArg::SustainedLow => PerfLevel::SustainedLow,
@@ -261,6 +273,7 @@ pub fn xr_cmd(a: XrArgs) -> CmdResult {
         perf_levels: (perf(a.cpu_level), perf(a.gpu_level)),
         deck_height: a.deck_height,
         preset: Some(preset(a.view.preset)),
+        submit_depth: a.submit_depth,
     })?;
     openxr::install_exit_signal_handler();
     let extent = xr.targets().extent;

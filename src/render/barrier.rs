@@ -93,7 +93,9 @@ pub struct ImageBarrier {
     pub image: vk::Image,
     /// Its aspect (colour or depth).
     pub aspect: vk::ImageAspectFlags,
-    /// Array layers, from 0.
+    /// The first array layer.
+    pub base_layer: u32,
+    /// Array layers, from `base_layer`.
     pub layers: u32,
     /// Mip levels, from 0.
     pub mips: u32,
@@ -111,11 +113,21 @@ impl ImageBarrier {
         Self {
             image,
             aspect: vk::ImageAspectFlags::COLOR,
+            base_layer: 0,
             layers,
             mips: 1,
             from,
             to,
             contents: Contents::Keep,
+        }
+    }
+
+    /// The same barrier over layer `layer` alone.
+    pub fn layer(self, layer: u32) -> Self {
+        Self {
+            base_layer: layer,
+            layers: 1,
+            ..self
         }
     }
 
@@ -150,7 +162,7 @@ impl ImageBarrier {
                 aspect_mask: self.aspect,
                 base_mip_level: 0,
                 level_count: self.mips,
-                base_array_layer: 0,
+                base_array_layer: self.base_layer,
                 layer_count: self.layers,
             })
     }

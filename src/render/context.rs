@@ -162,6 +162,8 @@ pub struct GpuContext {
     pub multiview: bool,
     /// Nanoseconds per timestamp tick, or `None` when the queue has no timestamps.
     pub timestamp_period: Option<f32>,
+    /// Sample counts usable for both colour and depth attachments (MSAA).
+    pub sample_counts: vk::SampleCountFlags,
     /// Memory types of the device.
     pub memory: vk::PhysicalDeviceMemoryProperties,
     /// Device name, for logs and reports.
@@ -305,6 +307,8 @@ impl GpuContext {
         let timestamp_period = (families[queue_family as usize].timestamp_valid_bits > 0
             && props.limits.timestamp_period > 0.0)
             .then_some(props.limits.timestamp_period);
+        let sample_counts = props.limits.framebuffer_color_sample_counts
+            & props.limits.framebuffer_depth_sample_counts;
 
         let priorities = [1.0];
         let queues = [vk::DeviceQueueCreateInfo::default()
@@ -340,6 +344,7 @@ impl GpuContext {
             queue_family,
             multiview,
             timestamp_period,
+            sample_counts,
             memory,
             device_name,
             cpu_device: props.device_type == vk::PhysicalDeviceType::CPU,

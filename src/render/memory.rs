@@ -133,6 +133,8 @@ pub struct Image {
     pub layers: u32,
     /// Mip levels.
     pub mips: u32,
+    /// Bytes of device memory bound to it.
+    pub bytes: u64,
 }
 
 /// What an [`Image`] is made of.
@@ -146,6 +148,8 @@ pub struct ImageDesc {
     pub layers: u32,
     /// Mip levels.
     pub mips: u32,
+    /// Samples per pixel (`TYPE_1` but for multisampled attachments).
+    pub samples: vk::SampleCountFlags,
     /// Usage.
     pub usage: vk::ImageUsageFlags,
     /// Aspect of the view.
@@ -169,7 +173,7 @@ impl Image {
             })
             .mip_levels(desc.mips)
             .array_layers(desc.layers)
-            .samples(vk::SampleCountFlags::TYPE_1)
+            .samples(desc.samples)
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(desc.usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE)
@@ -184,6 +188,7 @@ impl Image {
             extent: desc.extent,
             layers: desc.layers,
             mips: desc.mips,
+            bytes: 0,
         };
         if let Err(e) = this.bind_and_view(ctx, desc) {
             this.destroy(ctx);
@@ -203,6 +208,7 @@ impl Image {
             extent: vk::Extent2D::default(),
             layers: 0,
             mips: 0,
+            bytes: 0,
         }
     }
 
@@ -220,6 +226,7 @@ impl Image {
             vk::MemoryPropertyFlags::DEVICE_LOCAL
         };
         self.memory = allocate(ctx, req, flags)?;
+        self.bytes = req.size;
         // SAFETY: fresh memory of the image's requirements, bound once at offset 0.
         unsafe { d.bind_image_memory(self.raw, self.memory, 0) }
             .map_err(RenderError::vk("vkBindImageMemory"))?;

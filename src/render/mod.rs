@@ -29,7 +29,7 @@ pub use context::{
 };
 pub use error::RenderError;
 pub use ocean::{FrameInput, FrameReport, OceanRenderer, RendererSettings, TargetImages};
-pub use pipeline::{StereoMode, DEPTH_FORMAT};
+pub use pipeline::{Msaa, StereoMode, DEPTH_FORMAT};
 
 use ash::vk;
 

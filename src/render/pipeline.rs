@@ -32,6 +32,94 @@ impl StereoMode {
 /// The depth format: float, for reversed Z.
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
+/// Multisample anti-aliasing: samples per pixel of the pass's colour and depth. With more than
+/// one, the pass draws into transient multisampled attachments (lazily allocated where the
+/// device offers it, never stored) and resolves colour into the eye image at the end of the
+/// subpass: on a tile-based GPU (Quest) the resolve happens on the tile and the samples never
+/// reach memory.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Msaa {
+    /// One sample: no anti-aliasing of edges.
+    X1,
+    /// Two samples.
+    X2,
+    /// Four samples (Meta's recommendation for Quest).
+    X4,
+}
+
+impl Msaa {
+    /// From a sample count (1, 2 or 4).
+    pub fn from_samples(n: u32) -> Option<Self> {
+        match n {
+            1 => Some(Msaa::X1),
+            2 => Some(Msaa::X2),
+            4 => Some(Msaa::X4),
+            _ => None,
+        }
+    }
+
+    /// Samples per pixel.
+    pub fn samples(self) -> u32 {
+        match self {
+            Msaa::X1 => 1,
+            Msaa::X2 => 2,
+            Msaa::X4 => 4,
+        }
+    }
+
+    /// As Vulkan spells it.
+    pub fn flag(self) -> vk::SampleCountFlags {
+        match self {
+            Msaa::X1 => vk::SampleCountFlags::TYPE_1,
+            Msaa::X2 => vk::SampleCountFlags::TYPE_2,
+            Msaa::X4 => vk::SampleCountFlags::TYPE_4,
+        }
+    }
+
+    /// Whether the pass resolves multisampled attachments.
+    pub fn resolves(self) -> bool {
+        self != Msaa::X1
+    }
+}
+
+/// What the render pass is built for.
+#[derive(Clone, Copy, Debug)]
+pub struct PassLayout {
+    /// Multiview or two passes.
+    pub mode: StereoMode,
+    /// The eye images' format.
+    pub colour_format: vk::Format,
+    /// Samples per pixel.
+    pub msaa: Msaa,
+    /// Keep the depth after the pass (an OpenXR depth swapchain; single-sample only).
+    pub store_depth: bool,
+}
+
+impl PassLayout {
+    /// Whether the subpass resolves the multisampled colour into the eye image (a resolve
+    /// attachment: on a tiler, on the tile). True with MSAA and multiview. The two-pass
+    /// fallback resolves each eye with `vkCmdResolveImage` after its pass instead: lavapipe
+    /// (Mesa 22.3) writes a resolve attachment whose view starts at layer 1 into layer 0.
+    pub fn resolves_in_pass(&self) -> bool {
+        self.msaa.resolves() && self.mode == StereoMode::Multiview
+    }
+
+    /// Whether each pass is followed by an explicit resolve (MSAA, two passes).
+    pub fn resolves_after_pass(&self) -> bool {
+        self.msaa.resolves() && self.mode == StereoMode::TwoPass
+    }
+
+    /// The attachments of a framebuffer, in order: colour (multisampled with MSAA; the eye
+    /// image without), depth (likewise), then, resolving in the pass, the eye image.
+    pub fn attachment_count(&self) -> usize {
+        if self.resolves_in_pass() {
+            3
+        } else {
+            2
+        }
+    }
+}
+
 /// Push constants of every pipeline (vertex stage), mirrored by `Push` in the shaders.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
@@ -50,6 +138,8 @@ pub struct Push {
 pub struct Pipelines {
     /// The mode these were built for.
     pub mode: StereoMode,
+    /// What the render pass was built for.
+    pub layout_of_pass: PassLayout,
     /// Colour + depth, cleared; colour ends in `COLOR_ATTACHMENT_OPTIMAL` (what an OpenXR
     /// swapchain image must be in when released).
     pub render_pass: vk::RenderPass,
@@ -62,25 +152,35 @@ pub struct Pipelines {
 }
 
 impl Pipelines {
-    /// Builds everything for `mode` and a colour attachment of `colour_format`; depth is kept
-    /// after the pass when `store_depth` (an OpenXR depth swapchain).
-    pub fn new(
-        ctx: &GpuContext,
-        mode: StereoMode,
-        colour_format: vk::Format,
-        store_depth: bool,
-    ) -> Result<Self, RenderError> {
+    /// Builds everything for `pass`.
+    pub fn new(ctx: &GpuContext, pass: PassLayout) -> Result<Self, RenderError> {
+        let mode = pass.mode;
         if mode == StereoMode::Multiview && !ctx.multiview {
             return Err(RenderError::Unsupported("the multiview feature".into()));
         }
+        if !ctx.sample_counts.contains(pass.msaa.flag()) {
+            return Err(RenderError::Unsupported(format!(
+                "{}x MSAA for colour and depth (it offers {:?}); choose another --msaa",
+                pass.msaa.samples(),
+                ctx.sample_counts
+            )));
+        }
+        if pass.store_depth && pass.msaa.resolves() {
+            return Err(RenderError::Invalid(
+                "depth kept for the compositor needs --msaa 1 (the multisampled depth is not \
+                 resolved)"
+                    .into(),
+            ));
+        }
         let mut this = Self {
             mode,
+            layout_of_pass: pass,
             render_pass: vk::RenderPass::null(),
             set_layout: vk::DescriptorSetLayout::null(),
             layout: vk::PipelineLayout::null(),
             ocean: vk::Pipeline::null(),
         };
-        if let Err(e) = this.create(ctx, colour_format, store_depth) {
+        if let Err(e) = this.create(ctx) {
             this.destroy(ctx);
             return Err(e);
         }
@@ -89,14 +189,9 @@ impl Pipelines {
 
     /// Creates the objects in order; [`Pipelines::destroy`] frees whatever was made when a
     /// step fails.
-    fn create(
-        &mut self,
-        ctx: &GpuContext,
-        colour_format: vk::Format,
-        store_depth: bool,
-    ) -> Result<(), RenderError> {
+    fn create(&mut self, ctx: &GpuContext) -> Result<(), RenderError> {
         let d = &ctx.device;
-        self.render_pass = render_pass(ctx, self.mode, colour_format, store_depth)?;
+        self.render_pass = render_pass(ctx, &self.layout_of_pass)?;
         let bindings = [
             vk::DescriptorSetLayoutBinding::default()
                 .binding(0)
@@ -142,6 +237,7 @@ impl Pipelines {
             shaders::OCEAN_FRAG,
             self.layout,
             self.render_pass,
+            self.layout_of_pass.msaa,
         )?;
         Ok(())
     }
@@ -159,30 +255,41 @@ impl Pipelines {
     }
 }
 
-fn render_pass(
-    ctx: &GpuContext,
-    mode: StereoMode,
-    colour_format: vk::Format,
-    store_depth: bool,
-) -> Result<vk::RenderPass, RenderError> {
-    let depth_store = if store_depth {
+fn render_pass(ctx: &GpuContext, pass: &PassLayout) -> Result<vk::RenderPass, RenderError> {
+    let samples = pass.msaa.flag();
+    let resolves = pass.resolves_in_pass();
+    let resolves_after = pass.resolves_after_pass();
+    let depth_store = if pass.store_depth {
         vk::AttachmentStoreOp::STORE
     } else {
         vk::AttachmentStoreOp::DONT_CARE
     };
-    let attachments = [
+    // Resolved in the pass, the multisampled colour is never stored: only its resolve is.
+    let colour_store = if resolves {
+        vk::AttachmentStoreOp::DONT_CARE
+    } else {
+        vk::AttachmentStoreOp::STORE
+    };
+    // Resolved after the pass, it ends ready for `vkCmdResolveImage`.
+    let colour_final = if resolves_after {
+        vk::ImageLayout::TRANSFER_SRC_OPTIMAL
+    } else {
+        // What an OpenXR swapchain image must be in when released.
+        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL
+    };
+    let mut attachments = vec![
         vk::AttachmentDescription::default()
-            .format(colour_format)
-            .samples(vk::SampleCountFlags::TYPE_1)
+            .format(pass.colour_format)
+            .samples(samples)
             .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
+            .store_op(colour_store)
             .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
             .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
             .initial_layout(vk::ImageLayout::UNDEFINED)
-            .final_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
+            .final_layout(colour_final),
         vk::AttachmentDescription::default()
             .format(DEPTH_FORMAT)
-            .samples(vk::SampleCountFlags::TYPE_1)
+            .samples(samples)
             .load_op(vk::AttachmentLoadOp::CLEAR)
             .store_op(depth_store)
             .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
@@ -190,6 +297,20 @@ fn render_pass(
             .initial_layout(vk::ImageLayout::UNDEFINED)
             .final_layout(vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL),
     ];
+    if resolves {
+        // The eye image: every pixel is written by the resolve, so nothing is loaded.
+        attachments.push(
+            vk::AttachmentDescription::default()
+                .format(pass.colour_format)
+                .samples(vk::SampleCountFlags::TYPE_1)
+                .load_op(vk::AttachmentLoadOp::DONT_CARE)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
+                .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
+                .initial_layout(vk::ImageLayout::UNDEFINED)
+                .final_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
+        );
+    }
     let colour_ref = [vk::AttachmentReference {
         attachment: 0,
         layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
@@ -198,34 +319,52 @@ fn render_pass(
         attachment: 1,
         layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
     };
-    let subpass = [vk::SubpassDescription::default()
+    let resolve_ref = [vk::AttachmentReference {
+        attachment: 2,
+        layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+    }];
+    let mut subpass = vk::SubpassDescription::default()
         .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
         .color_attachments(&colour_ref)
-        .depth_stencil_attachment(&depth_ref)];
+        .depth_stencil_attachment(&depth_ref);
+    if resolves {
+        subpass = subpass.resolve_attachments(&resolve_ref);
+    }
+    let subpass = [subpass];
     // The previous frame's use of the same attachments (colour read by a blit or the
     // compositor, depth written) finishes before this pass clears them.
-    let deps = [vk::SubpassDependency::default()
-        .src_subpass(vk::SUBPASS_EXTERNAL)
-        .dst_subpass(0)
-        .src_stage_mask(
-            vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
-                | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS
-                | vk::PipelineStageFlags::TRANSFER,
-        )
-        .dst_stage_mask(
-            vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
-                | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS,
-        )
-        .src_access_mask(
-            vk::AccessFlags::COLOR_ATTACHMENT_WRITE
-                | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE
-                | vk::AccessFlags::TRANSFER_READ,
-        )
-        .dst_access_mask(
-            vk::AccessFlags::COLOR_ATTACHMENT_WRITE
-                | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE
-                | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ,
-        )];
+    let deps = [
+        vk::SubpassDependency::default()
+            .src_subpass(vk::SUBPASS_EXTERNAL)
+            .dst_subpass(0)
+            .src_stage_mask(
+                vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
+                    | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS
+                    | vk::PipelineStageFlags::TRANSFER,
+            )
+            .dst_stage_mask(
+                vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
+                    | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS,
+            )
+            .src_access_mask(
+                vk::AccessFlags::COLOR_ATTACHMENT_WRITE
+                    | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE
+                    | vk::AccessFlags::TRANSFER_READ,
+            )
+            .dst_access_mask(
+                vk::AccessFlags::COLOR_ATTACHMENT_WRITE
+                    | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE
+                    | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ,
+            ),
+        // The pass's colour writes finish before a resolve after the pass reads them.
+        vk::SubpassDependency::default()
+            .src_subpass(0)
+            .dst_subpass(vk::SUBPASS_EXTERNAL)
+            .src_stage_mask(vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT)
+            .dst_stage_mask(vk::PipelineStageFlags::TRANSFER)
+            .src_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE)
+            .dst_access_mask(vk::AccessFlags::TRANSFER_READ),
+    ];
     let view_masks = [0b11u32];
     let correlation = [0b11u32];
     let mut multiview = vk::RenderPassMultiviewCreateInfo::default()
@@ -235,7 +374,7 @@ fn render_pass(
         .attachments(&attachments)
         .subpasses(&subpass)
         .dependencies(&deps);
-    if mode == StereoMode::Multiview {
+    if pass.mode == StereoMode::Multiview {
         info = info.push_next(&mut multiview);
     }
     // SAFETY: every array `info` points at lives until the call returns.
@@ -250,6 +389,7 @@ fn build(
     frag: &[u32],
     layout: vk::PipelineLayout,
     render_pass: vk::RenderPass,
+    msaa: Msaa,
 ) -> Result<vk::Pipeline, RenderError> {
     let d = &ctx.device;
     let module = |code: &[u32]| {
@@ -321,8 +461,8 @@ fn build(
         .cull_mode(vk::CullModeFlags::NONE)
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);
-    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-        .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+    let multisample =
+        vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(msaa.flag());
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(true)
         .depth_write_enable(true)

@@ -339,9 +339,11 @@ impl Simulation {
             .num_threads(threads)
             .thread_name(|i| format!("ocean-sim-{i}"))
             .start_handler(|i| {
-                // On Android (the Quest) above normal; the render thread keeps the normal
-                // priority. Desktops keep the default: there the GPU driver may be CPU threads
-                // (lavapipe) that must not be starved.
+                super::workers::register_worker_thread();
+                // On Android (the Quest) above normal (the OpenXR backend raises the render
+                // thread alike, or hands both to the runtime's thread settings). Desktops keep
+                // the default: there the GPU driver may be CPU threads (lavapipe) that must not
+                // be starved.
                 let raised = cfg!(target_os = "android")
                     && super::workers::raise_thread_priority(super::workers::WORKER_NICE);
                 if i == 0 {

@@ -1,4 +1,5 @@
-//! How many simulation workers a device gets, and their priority.
+//! How many simulation workers a device gets, their priority, and their thread ids (for the
+//! runtime's thread settings on Android).
 //!
 //! Phone-class SoCs (the Quest's Snapdragon XR2) mix fast and slow cores; a Rayon pool as wide
 //! as every core spends its fork-joins waiting for the slow ones. The workers go on the
@@ -7,6 +8,7 @@
 //! (`/sys/devices/system/cpu/cpuN/cpufreq/cpuinfo_max_freq`), which Android exposes too.
 
 use std::path::Path;
+use std::sync::atomic::{AtomicU32, AtomicUsize, Ordering};
 
 /// A core counts as a performance core when its maximum clock is at least this share of the
 /// fastest core's (XR2 Gen 1: 2.84/2.42 GHz prime and gold cores, 1.8 GHz silver ones).
@@ -77,9 +79,74 @@ pub fn raise_thread_priority(nice: i32) -> bool {
     }
 }
 
+/// Most simulation worker threads whose ids are kept for [`worker_thread_ids`].
+pub const MAX_REGISTERED_WORKERS: usize = 16;
+
+/// Kernel thread ids of the simulation workers, in start order (0 = empty slot).
+static WORKER_TIDS: [AtomicU32; MAX_REGISTERED_WORKERS] =
+    [const { AtomicU32::new(0) }; MAX_REGISTERED_WORKERS];
+static WORKER_COUNT: AtomicUsize = AtomicUsize::new(0);
+
+/// The calling thread's kernel thread id (`gettid`), where the platform has one (Linux,
+/// Android); what `XR_KHR_android_thread_settings` takes.
+pub fn current_thread_id() -> Option<u32> {
+    #[cfg(any(target_os = "linux", target_os = "android"))]
+    {
+        extern "C" {
+            fn gettid() -> i32;
+        }
+        // SAFETY: a plain system call returning the caller's id; no memory is passed.
+        let tid = unsafe { gettid() };
+        u32::try_from(tid).ok().filter(|&t| t != 0)
+    }
+    #[cfg(not(any(target_os = "linux", target_os = "android")))]
+    None
+}
+
+/// Records the calling thread as a simulation worker (its start handler calls this), so the
+/// XR backend can hand it to the runtime's thread settings. No allocation; ids beyond
+/// [`MAX_REGISTERED_WORKERS`] are not kept.
+pub fn register_worker_thread() {
+    let Some(tid) = current_thread_id() else {
+        return;
+    };
+    let slot = WORKER_COUNT.fetch_add(1, Ordering::Relaxed);
+    if let Some(s) = WORKER_TIDS.get(slot) {
+        s.store(tid, Ordering::Release);
+    }
+}
+
+/// The simulation workers' thread ids recorded so far, from the `from`-th on (a caller keeps
+/// how many it has handled). No allocation.
+pub fn worker_thread_ids(from: usize) -> impl Iterator<Item = u32> {
+    let n = WORKER_COUNT
+        .load(Ordering::Relaxed)
+        .min(MAX_REGISTERED_WORKERS);
+    WORKER_TIDS[from.min(n)..n]
+        .iter()
+        .map(|t| t.load(Ordering::Acquire))
+        .take_while(|&t| t != 0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn worker_threads_are_recorded_by_kernel_id() {
+        let before = WORKER_COUNT.load(Ordering::Relaxed);
+        let tid = std::thread::spawn(|| {
+            register_worker_thread();
+            current_thread_id()
+        })
+        .join()
+        .unwrap();
+        if cfg!(any(target_os = "linux", target_os = "android")) {
+            let tid = tid.expect("gettid");
+            assert_ne!(Some(tid), current_thread_id(), "another thread's id");
+            assert!(worker_thread_ids(before).any(|t| t == tid));
+        }
+    }
 
     #[test]
     fn xr2_clusters_give_two_or_three_workers() {

@@ -35,6 +35,8 @@ impl Default for LocomotionSettings {
 #[derive(Clone, Copy, Debug)]
 pub struct Locomotion {
     settings: LocomotionSettings,
+    /// The origin the session started with: the deck.
+    home: Vec3,
     origin: Vec3,
     yaw: f32,
     snap_armed: bool,
@@ -46,6 +48,7 @@ impl Locomotion {
     pub fn new(origin: Vec3, settings: LocomotionSettings) -> Self {
         Self {
             settings,
+            home: origin,
             origin,
             yaw: 0.0,
             snap_armed: true,
@@ -87,6 +90,22 @@ impl Locomotion {
         turned
     }
 
+    /// Re-anchors the user on the deck: the head (tracking-space pose `head_position`,
+    /// `head_orientation`) goes back over the deck's centre, facing the world's −z (the view the
+    /// session started with), at the deck's height. For a user who glided away or stands
+    /// turned in the room.
+    pub fn recenter(&mut self, head_position: Vec3, head_orientation: Quat) {
+        let forward = head_orientation * Vec3::NEG_Z;
+        // The head's heading in tracking space (0 looks along −z, positive turns left).
+        let heading = (-forward.x).atan2(-forward.z);
+        if forward.x.abs() + forward.z.abs() > 1e-4 {
+            self.yaw = -heading;
+        }
+        let r = Quat::from_rotation_y(self.yaw);
+        let head = r * head_position;
+        self.origin = Vec3::new(self.home.x - head.x, self.home.y, self.home.z - head.z);
+    }
+
     /// A tracking-space pose in the world.
     pub fn to_world(&self, position: Vec3, orientation: Quat) -> (Vec3, Quat) {
         let r = Quat::from_rotation_y(self.yaw);
@@ -102,6 +121,30 @@ impl Locomotion {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn recentring_puts_the_head_back_over_the_deck_facing_forward() {
+        let home = Vec3::new(0.0, 2.9, 0.0);
+        let mut l = Locomotion::new(home, LocomotionSettings::default());
+        // Glide away and snap-turn twice, while standing 1 m off the room's centre, turned.
+        let head = Vec3::new(1.0, 1.7, -0.5);
+        let turned = Quat::from_rotation_y(0.7) * Quat::from_rotation_x(-0.2);
+        for _ in 0..200 {
+            l.update(head, turned, Vec2::new(0.3, 1.0), 0.0, 1.0 / 72.0);
+        }
+        l.update(head, turned, Vec2::ZERO, 1.0, 1.0 / 72.0);
+        l.update(head, turned, Vec2::ZERO, 0.0, 1.0 / 72.0);
+        l.update(head, turned, Vec2::ZERO, 1.0, 1.0 / 72.0);
+        let (away, _) = l.to_world(head, turned);
+        assert!(Vec2::new(away.x, away.z).length() > 5.0, "{away}");
+        l.recenter(head, turned);
+        let (p, q) = l.to_world(head, turned);
+        assert!(close(Vec3::new(p.x, 0.0, p.z), Vec3::ZERO), "head at {p}");
+        assert!((p.y - (home.y + head.y)).abs() < 1e-4, "height {}", p.y);
+        let f = q * Vec3::NEG_Z;
+        let flat = Vec3::new(f.x, 0.0, f.z).normalize();
+        assert!(close(flat, Vec3::NEG_Z), "facing {flat}");
+    }
 
     fn close(a: Vec3, b: Vec3) -> bool {
         (a - b).length() < 1e-4

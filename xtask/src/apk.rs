@@ -284,11 +284,11 @@ fn newest(dir: &Path, ok: impl Fn(&Path) -> bool) -> Option<PathBuf> {
     found.pop()
 }
 
-/// The platform jar to link resources against: android-32 when installed, else the newest
-/// installed at or above [`MIN_API`].
+/// The platform jar to link resources against: android-34 (the target SDK) when installed,
+/// else the newest installed at or above [`MIN_API`].
 fn platform_jar(sdk: &Path) -> Option<PathBuf> {
     let platforms = sdk.join("platforms");
-    let preferred = platforms.join("android-32/android.jar");
+    let preferred = platforms.join("android-34/android.jar");
     if preferred.is_file() {
         return Some(preferred);
     }
@@ -349,7 +349,7 @@ fn ndk_tools() -> Result<Tools> {
             what: "ANDROID_HOME or ANDROID_SDK_ROOT (the Android SDK: build-tools and a platform)"
                 .into(),
             from: "Android Studio, or the command-line tools: sdkmanager \"build-tools;34.0.0\" \
-                   \"platforms;android-32\" \"platform-tools\"; then export ANDROID_HOME=<the \
+                   \"platforms;android-34\" \"platform-tools\"; then export ANDROID_HOME=<the \
                    SDK directory>"
                 .into(),
         }),
@@ -367,7 +367,7 @@ fn ndk_tools() -> Result<Tools> {
                 Some(jar) => android_jar = jar,
                 None => missing.push(MissingTool {
                     what: format!("an Android platform (android.jar), API {MIN_API} or later"),
-                    from: "sdkmanager \"platforms;android-32\"".into(),
+                    from: "sdkmanager \"platforms;android-34\"".into(),
                 }),
             }
         }

@@ -9,7 +9,7 @@
 //! 4. a placeholder arm64 loader, given as a `.so` and inside an AAR, is packaged byte for
 //!    byte as `lib/arm64-v8a/libopenxr_loader.so`;
 //! 5. that APK: `apksigner verify` (v2 or v3 scheme, one signer), `aapt dump badging` (launchable NativeActivity,
-//!    native-code arm64-v8a only, SDK 29/32, the features and permissions), `aapt dump
+//!    native-code arm64-v8a only, SDK 29/34, the features and permissions), `aapt dump
 //!    xmltree` of the manifest (the intent categories, meta-data, `<queries>`,
 //!    `<uses-native-library>`, launch mode, orientation), `llvm-readelf` of the packaged
 //!    `libvr_ocean.so` (AArch64 shared object with SONAME, exports `ANativeActivity_onCreate`,
@@ -447,8 +447,8 @@ pub fn check_badging(text: &str) -> Vec<String> {
         ),
         (has_line("sdkVersion:'29'"), "minSdkVersion 29".into()),
         (
-            has_line("targetSdkVersion:'32'"),
-            "targetSdkVersion 32".into(),
+            has_line("targetSdkVersion:'34'"),
+            "targetSdkVersion 34".into(),
         ),
         (
             has_prefix(&format!("launchable-activity: name='{ACTIVITY}'")),
@@ -588,8 +588,8 @@ pub fn check_manifest(text: &str) -> Vec<String> {
         "uses-sdk minSdkVersion 29",
     );
     need(
-        sdk.and_then(|s| s.attr("targetSdkVersion")) == Some("(type 0x10)0x20"),
-        "uses-sdk targetSdkVersion 32",
+        sdk.and_then(|s| s.attr("targetSdkVersion")) == Some("(type 0x10)0x22"),
+        "uses-sdk targetSdkVersion 34",
     );
     need(
         m.named("uses-feature", "android.hardware.vr.headtracking")
@@ -639,6 +639,10 @@ pub fn check_manifest(text: &str) -> Vec<String> {
     need(
         app.attr("hasCode") == Some(FALSE),
         "application hasCode=false",
+    );
+    need(
+        app.attr("extractNativeLibs") == Some(FALSE),
+        "application extractNativeLibs=false",
     );
     need(
         app.attr("icon").is_some_and(|i| i.starts_with('@')),
@@ -759,7 +763,7 @@ mod tests {
     const BADGING: &str = "\
 package: name='com.vrocean.ocean' versionCode='1' versionName='0.1.0' platformBuildVersionName='10.0.0'
 sdkVersion:'29'
-targetSdkVersion:'32'
+targetSdkVersion:'34'
 uses-permission: name='org.khronos.openxr.permission.OPENXR'
 uses-permission: name='org.khronos.openxr.permission.OPENXR_SYSTEM'
 application-label:'vr-ocean'
@@ -781,7 +785,7 @@ native-code: 'arm64-v8a'
                 "native-code: 'arm64-v8a' 'armeabi-v7a'",
             ),
             ("sdkVersion:'29'", "sdkVersion:'26'"),
-            ("targetSdkVersion:'32'", "targetSdkVersion:'29'"),
+            ("targetSdkVersion:'34'", "targetSdkVersion:'32'"),
             (
                 "launchable-activity: name='android.app.NativeActivity'",
                 "activity: name='x'",
@@ -832,7 +836,7 @@ native-code: 'arm64-v8a'
     A: package="com.vrocean.ocean" (Raw: "com.vrocean.ocean")
     E: uses-sdk (line=11)
       A: android:minSdkVersion(0x0101020c)=(type 0x10)0x1d
-      A: android:targetSdkVersion(0x01010270)=(type 0x10)0x20
+      A: android:targetSdkVersion(0x01010270)=(type 0x10)0x22
     E: uses-feature (line=14)
       A: android:name(0x01010003)="android.hardware.vr.headtracking" (Raw: "android.hardware.vr.headtracking")
       A: android:required(0x0101028e)=(type 0x12)0xffffffff
@@ -851,6 +855,7 @@ native-code: 'arm64-v8a'
     E: application (line=27)
       A: android:icon(0x01010002)=@0x7f010000
       A: android:hasCode(0x0101000c)=(type 0x12)0x0
+      A: android:extractNativeLibs(0x010104ea)=(type 0x12)0x0
       E: meta-data (line=33)
         A: android:name(0x01010003)="com.oculus.supportedDevices" (Raw: "x")
         A: android:value(0x01010024)="quest2|questpro|quest3|quest3s" (Raw: "x")

@@ -30,13 +30,13 @@ use ash::vk;
 use glam::Vec3;
 
 use self::mesh::MeshBuffers;
-use self::pass::{PassConstants, PassRecorder};
+use self::pass::{PassConstants, PassRecorder, ResolveAfter};
 use self::slots::{SlotSizes, Slots, TIMESTAMP_QUERIES};
 use self::targets::Targets;
 use self::textures::CascadeTextures;
 use super::context::GpuContext;
 use super::error::RenderError;
-use super::pipeline::{Pipelines, StereoMode};
+use super::pipeline::{Msaa, PassLayout, Pipelines, StereoMode};
 use crate::base::EyeView;
 use crate::lod::OceanLod;
 use crate::sim::{OceanConfig, Surfaces};
@@ -49,6 +49,8 @@ pub const MAX_CASCADES: usize = 4;
 pub struct RendererSettings {
     /// Multiview or the two-pass fallback.
     pub stereo: StereoMode,
+    /// Samples per pixel (edges anti-aliased by the resolve).
+    pub msaa: Msaa,
     /// Frames the CPU may record ahead of the GPU (≥ 2); also the staging ring's slot count.
     pub frames_in_flight: usize,
     /// Unit direction towards the sun.
@@ -65,6 +67,7 @@ impl Default for RendererSettings {
     fn default() -> Self {
         Self {
             stereo: StereoMode::Multiview,
+            msaa: Msaa::X4,
             frames_in_flight: 2,
             sun_direction: Vec3::new(0.45, 0.3, -0.84).normalize(),
             sun_intensity: 8.0,
@@ -206,6 +209,12 @@ impl OceanRenderer {
         &self.settings
     }
 
+    /// Device memory of the pass's transient attachments (multisampled colour and depth, or
+    /// the depth alone), bytes: for reports.
+    pub fn attachment_bytes(&self) -> u64 {
+        self.targets.transient_bytes()
+    }
+
     /// Records and submits one frame into target `input.image`. Waits only for the frame that
     /// last used this slot (`frames_in_flight` frames ago).
     pub fn render(
@@ -268,6 +277,16 @@ impl OceanRenderer {
             set: slot.set,
             extent: self.extent,
             vertices_per_side: self.pass.vertices_per_side,
+            resolve_after: self
+                .pipelines
+                .layout_of_pass
+                .resolves_after_pass()
+                .then(|| self.targets.msaa_colour())
+                .flatten()
+                .map(|msaa| ResolveAfter {
+                    msaa,
+                    target: self.targets.image(input.image),
+                }),
         };
         let passes: &[u32] = match self.settings.stereo {
             StereoMode::Multiview => &[0],
@@ -380,13 +399,13 @@ fn make_parts(
     settings: &RendererSettings,
     parts: &mut Parts,
 ) -> Result<(), RenderError> {
-    let store_depth = !targets.depth.is_empty();
-    let pipelines = parts.pipelines.insert(Pipelines::new(
-        ctx,
-        settings.stereo,
-        targets.format,
-        store_depth,
-    )?);
+    let pass = PassLayout {
+        mode: settings.stereo,
+        colour_format: targets.format,
+        msaa: settings.msaa,
+        store_depth: !targets.depth.is_empty(),
+    };
+    let pipelines = parts.pipelines.insert(Pipelines::new(ctx, pass)?);
     let textures = parts.textures.insert(CascadeTextures::new(ctx, config)?);
     parts.mesh = Some(MeshBuffers::new(ctx, lod)?);
     parts.targets = Some(Targets::new(ctx, pipelines, targets)?);

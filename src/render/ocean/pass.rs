@@ -12,6 +12,7 @@ use ash::vk;
 use super::mesh::MeshBuffers;
 use super::{FrameInput, RendererSettings};
 use crate::lod::{LodSettings, OceanLod};
+use crate::render::barrier::{self, Access, ImageBarrier};
 use crate::render::camera::Globals;
 use crate::render::pipeline::{Pipelines, Push};
 use crate::sim::OceanConfig;
@@ -97,6 +98,18 @@ pub(super) struct PassRecorder<'a> {
     pub set: vk::DescriptorSet,
     pub extent: vk::Extent2D,
     pub vertices_per_side: u32,
+    /// Two passes with MSAA: resolve each eye after its pass, from this multisampled image
+    /// into layer `eye` of this eye image.
+    pub resolve_after: Option<ResolveAfter>,
+}
+
+/// The images of a resolve after the pass.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct ResolveAfter {
+    /// The multisampled colour (1 layer), in `TRANSFER_SRC_OPTIMAL` after the pass.
+    pub msaa: vk::Image,
+    /// The eye image (2 layers).
+    pub target: vk::Image,
 }
 
 impl PassRecorder<'_> {
@@ -204,7 +217,56 @@ impl PassRecorder<'_> {
             draws += 1;
             d.cmd_end_render_pass(cmd);
         }
+        if let Some(r) = self.resolve_after {
+            self.resolve(r, eye);
+        }
         draws
+    }
+
+    /// Resolves the pass's multisampled colour into layer `eye` of the eye image, which ends
+    /// in `COLOR_ATTACHMENT_OPTIMAL` as a resolve in the pass would leave it.
+    fn resolve(&self, r: ResolveAfter, eye: u32) {
+        let (d, cmd) = (self.device, self.cmd);
+        // The layer's last reader was a copy or blit of an earlier frame; its contents go.
+        let to_write =
+            ImageBarrier::colour(r.target, 2, Access::TransferRead, Access::TransferWrite)
+                .layer(eye)
+                .discard();
+        barrier::record(d, cmd, [to_write], None);
+        let layers = |layer| vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: layer,
+            layer_count: 1,
+        };
+        let region = vk::ImageResolve {
+            src_subresource: layers(0),
+            src_offset: vk::Offset3D::default(),
+            dst_subresource: layers(eye),
+            dst_offset: vk::Offset3D::default(),
+            extent: vk::Extent3D {
+                width: self.extent.width,
+                height: self.extent.height,
+                depth: 1,
+            },
+        };
+        // SAFETY: `cmd` is recording outside a render pass; the multisampled image is in
+        // TRANSFER_SRC_OPTIMAL (the pass's final layout, its writes made visible by the pass's
+        // dependency) and the eye layer in TRANSFER_DST_OPTIMAL; the region fits both.
+        unsafe {
+            d.cmd_resolve_image(
+                cmd,
+                r.msaa,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                r.target,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &[region],
+            )
+        };
+        let done =
+            ImageBarrier::colour(r.target, 2, Access::TransferWrite, Access::ColourAttachment)
+                .layer(eye);
+        barrier::record(d, cmd, [done], None);
     }
 
     fn push(&self, push: &Push) {

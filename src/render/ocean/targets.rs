@@ -1,6 +1,8 @@
 //! The render targets of the pass: views and framebuffers for every pair of a colour image (the
 //! XR backend's, 2 layers) and a depth image (the given depth images, or one transient image of
-//! our own), per pass (one with multiview, one per eye without).
+//! our own), per pass (one with multiview, one per eye without). With MSAA the pass draws into
+//! transient multisampled colour and depth images of our own and resolves into the colour
+//! image.
 
 use ash::vk;
 
@@ -10,24 +12,69 @@ use crate::render::error::RenderError;
 use crate::render::memory::{create_view, Image, ImageDesc};
 use crate::render::pipeline::{Pipelines, StereoMode, DEPTH_FORMAT};
 
+/// (first layer, layer count) of each pass's view.
+type LayerRanges = &'static [(u32, u32)];
+
 /// Views and framebuffers of the target images.
 pub(super) struct Targets {
+    /// Transient multisampled colour (MSAA only), shared by all frames.
+    own_colour: Option<Image>,
+    /// Transient depth (multisampled with MSAA), when no depth images are given.
     own_depth: Option<Image>,
     /// Colour images.
     pub colours: usize,
     /// Depth images.
     pub depths: usize,
     passes: usize,
+    /// The colour images (the XR backend's).
+    images: Vec<vk::Image>,
     views: Vec<vk::ImageView>,
     framebuffers: Vec<vk::Framebuffer>,
 }
 
+/// A transient attachment of our own: never stored, lazily allocated where the device can.
+/// `layers`: 2 for multiview; 1 for two passes, which reuse it eye after eye (the render
+/// pass's external dependency orders the reuse), as a tiler reuses its tile memory.
+/// With `stored`, an image a transfer reads after the pass (the two-pass resolve): ordinary
+/// memory instead.
+#[allow(clippy::too_many_arguments)]
+fn transient(
+    ctx: &GpuContext,
+    format: vk::Format,
+    extent: vk::Extent2D,
+    samples: vk::SampleCountFlags,
+    layers: u32,
+    usage: vk::ImageUsageFlags,
+    aspect: vk::ImageAspectFlags,
+    stored: bool,
+) -> Result<Image, RenderError> {
+    let usage = if stored {
+        usage | vk::ImageUsageFlags::TRANSFER_SRC
+    } else {
+        usage | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT
+    };
+    Image::new(
+        ctx,
+        ImageDesc {
+            format,
+            extent,
+            layers,
+            mips: 1,
+            samples,
+            usage,
+            aspect,
+            transient: !stored,
+        },
+    )
+}
+
 impl Targets {
-    /// Views and framebuffers for every (colour, depth, pass); the transient depth image, when
-    /// no depth images are given, is shared by all frames (the render pass's external
-    /// dependency orders its reuse). Nothing is left behind when a step fails.
+    /// Views and framebuffers for every (colour, depth, pass); the transient attachments are
+    /// shared by all frames (the render pass's external dependency orders their reuse).
+    /// Nothing is left behind when a step fails.
     pub fn new(ctx: &GpuContext, p: &Pipelines, t: TargetImages<'_>) -> Result<Self, RenderError> {
         let mut out = Self {
+            own_colour: None,
             own_depth: None,
             colours: t.images.len(),
             depths: t.depth.len().max(1),
@@ -35,6 +82,7 @@ impl Targets {
                 StereoMode::Multiview => 1,
                 StereoMode::TwoPass => 2,
             },
+            images: t.images.to_vec(),
             views: Vec::new(),
             framebuffers: Vec::new(),
         };
@@ -51,31 +99,39 @@ impl Targets {
         p: &Pipelines,
         t: TargetImages<'_>,
     ) -> Result<(), RenderError> {
-        if t.depth.is_empty() {
-            self.own_depth = Some(Image::new(
+        let msaa = p.layout_of_pass.msaa;
+        let samples = msaa.flag();
+        // Views per pass of a 2-layer image (the eye images, given depth), and of our own
+        // transient attachments (2 layers with multiview, 1 reused by both passes without).
+        let (layouts, own_layers, own_layouts): (LayerRanges, u32, LayerRanges) = match p.mode {
+            StereoMode::Multiview => (&[(0, 2)], 2, &[(0, 2)]),
+            StereoMode::TwoPass => (&[(0, 1), (1, 1)], 1, &[(0, 1), (0, 1)]),
+        };
+        if msaa.resolves() {
+            self.own_colour = Some(transient(
                 ctx,
-                ImageDesc {
-                    format: DEPTH_FORMAT,
-                    extent: t.extent,
-                    layers: 2,
-                    mips: 1,
-                    usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
-                        | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT,
-                    aspect: vk::ImageAspectFlags::DEPTH,
-                    transient: true,
-                },
+                t.format,
+                t.extent,
+                samples,
+                own_layers,
+                vk::ImageUsageFlags::COLOR_ATTACHMENT,
+                vk::ImageAspectFlags::COLOR,
+                p.layout_of_pass.resolves_after_pass(),
             )?);
         }
-        let own = self.own_depth.as_ref().map(|d| [d.raw]);
-        let depth_images: &[vk::Image] = match &own {
-            Some(d) => d,
-            None => t.depth,
-        };
-        let layouts: &[(u32, u32)] = match p.mode {
-            StereoMode::Multiview => &[(0, 2)],
-            StereoMode::TwoPass => &[(0, 1), (1, 1)],
-        };
-        // Views first: [colour image][pass] then [depth image][pass].
+        if t.depth.is_empty() {
+            self.own_depth = Some(transient(
+                ctx,
+                DEPTH_FORMAT,
+                t.extent,
+                samples,
+                own_layers,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+                vk::ImageAspectFlags::DEPTH,
+                false,
+            )?);
+        }
+        // Views: [colour image][pass], then [depth image][pass], then [own colour][pass].
         let colour = vk::ImageAspectFlags::COLOR;
         let depth_aspect = vk::ImageAspectFlags::DEPTH;
         for &image in t.images {
@@ -84,9 +140,21 @@ impl Targets {
                 self.views.push(v?);
             }
         }
+        let own_depth = self.own_depth.as_ref().map(|d| [d.raw]);
+        let (depth_images, depth_layouts): (&[vk::Image], _) = match &own_depth {
+            Some(d) => (d, own_layouts),
+            None => (t.depth, layouts),
+        };
         for &image in depth_images {
-            for &(base, count) in layouts {
+            for &(base, count) in depth_layouts {
                 let v = create_view(ctx, image, DEPTH_FORMAT, depth_aspect, base, count, 1);
+                self.views.push(v?);
+            }
+        }
+        let msaa_view0 = self.views.len();
+        if let Some(c) = self.own_colour.as_ref().map(|c| c.raw) {
+            for &(base, count) in own_layouts {
+                let v = create_view(ctx, c, t.format, colour, base, count, 1);
                 self.views.push(v?);
             }
         }
@@ -94,13 +162,24 @@ impl Targets {
         for c in 0..self.colours {
             for d in 0..self.depths {
                 for pass in 0..self.passes {
-                    let attachments = [
-                        self.views[c * self.passes + pass],
-                        self.views[depth_view0 + d * self.passes + pass],
-                    ];
+                    let target = self.views[c * self.passes + pass];
+                    let depth = self.views[depth_view0 + d * self.passes + pass];
+                    let with_msaa;
+                    let plain;
+                    let attachments: &[vk::ImageView] = if p.layout_of_pass.resolves_in_pass() {
+                        with_msaa = [self.views[msaa_view0 + pass], depth, target];
+                        &with_msaa
+                    } else if msaa.resolves() {
+                        // Resolved after the pass: the pass draws the multisampled image only.
+                        plain = [self.views[msaa_view0 + pass], depth];
+                        &plain
+                    } else {
+                        plain = [target, depth];
+                        &plain
+                    };
                     let info = vk::FramebufferCreateInfo::default()
                         .render_pass(p.render_pass)
-                        .attachments(&attachments)
+                        .attachments(attachments)
                         .width(t.extent.width)
                         .height(t.extent.height)
                         .layers(1);
@@ -121,6 +200,25 @@ impl Targets {
         self.framebuffers[i]
     }
 
+    /// Colour image `i`.
+    pub fn image(&self, i: u32) -> vk::Image {
+        self.images[i as usize]
+    }
+
+    /// The multisampled colour image (MSAA only): what a resolve after the pass reads.
+    pub fn msaa_colour(&self) -> Option<vk::Image> {
+        self.own_colour.as_ref().map(|c| c.raw)
+    }
+
+    /// Device memory of the transient attachments (bytes), for reports.
+    pub fn transient_bytes(&self) -> u64 {
+        self.own_colour
+            .iter()
+            .chain(&self.own_depth)
+            .map(|i| i.bytes)
+            .sum()
+    }
+
     /// Frees what was made. The GPU must be done with it.
     pub fn destroy(&mut self, ctx: &GpuContext) {
         // SAFETY: the GPU no longer uses them (the owner waited for idle or never submitted).
@@ -132,8 +230,13 @@ impl Targets {
                 ctx.device.destroy_image_view(v, None);
             }
         }
-        if let Some(mut d) = self.own_depth.take() {
-            d.destroy(ctx);
+        for mut i in self
+            .own_colour
+            .take()
+            .into_iter()
+            .chain(self.own_depth.take())
+        {
+            i.destroy(ctx);
         }
     }
 }

@@ -55,6 +55,7 @@ impl CascadeTextures {
             },
             layers: cascades,
             mips,
+            samples: vk::SampleCountFlags::TYPE_1,
             usage: vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
             aspect: vk::ImageAspectFlags::COLOR,
             transient: false,

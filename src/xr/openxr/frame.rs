@@ -10,7 +10,7 @@ use openxr as xr;
 
 use super::error::{check, Call, CallError};
 use super::lifecycle::{self, Action, Event, ExitReason};
-use super::{backend, next_preset, FramePoll, OpenXr, Pending, EXIT_SIGNAL};
+use super::{backend, next_preset, FramePoll, OpenXr, Pending, EXIT_SIGNAL, LOCAL_EYE_HEIGHT};
 use crate::base::{EyeView, Fov};
 use crate::xr::{FrameState, Tweak, XrError, MAX_TWEAKS};
 
@@ -58,6 +58,9 @@ impl OpenXr {
                 Err(e) => return Err(CallError::new("xrWaitFrame", e).into()),
             };
             self.stats.waited();
+            if let Some(s) = self.session.as_ref() {
+                self.threads.poll(&self.instance, &s.session);
+            }
             self.session_mut().stream.begin().call("xrBeginFrame")?;
             return self.begun(state).map(FramePoll::Frame);
         }
@@ -183,8 +186,11 @@ impl OpenXr {
         Ok(())
     }
 
-    /// Locates both eyes in the tracking space at `time` without allocating.
-    fn locate_views(&self, time: xr::Time) -> Result<Option<[xr::View; 2]>, XrError> {
+    /// Locates both eyes in the tracking space at `time` without allocating. `None` when the
+    /// runtime cannot orient the head (the frame is then not rendered). With a valid
+    /// orientation but no valid position (tracking lost, e.g. the cameras covered) the eyes keep
+    /// their last known positions, so the frame is still shown, turning with the head.
+    fn locate_views(&mut self, time: xr::Time) -> Result<Option<[xr::View; 2]>, XrError> {
         let s = self.session();
         let info = xr::sys::ViewLocateInfo {
             ty: xr::sys::ViewLocateInfo::TYPE,
@@ -218,14 +224,34 @@ impl OpenXr {
             )
         };
         check(r).call("xrLocateViews")?;
-        let valid = xr::ViewStateFlags::ORIENTATION_VALID | xr::ViewStateFlags::POSITION_VALID;
-        if count != 2 || !state.view_state_flags.contains(valid) {
+        let flags = state.view_state_flags;
+        if count != 2 || !flags.contains(xr::ViewStateFlags::ORIENTATION_VALID) {
             return Ok(None);
         }
-        Ok(Some(raw.map(|v| xr::View {
+        let mut views = raw.map(|v| xr::View {
             pose: v.pose,
             fov: v.fov,
-        })))
+        });
+        if flags.contains(xr::ViewStateFlags::POSITION_VALID) {
+            if self.tracking.position_lost {
+                log::info!("head position tracked again");
+                self.tracking.position_lost = false;
+            }
+            self.tracking.last_positions = Some(views.map(|v| v.pose.position));
+        } else {
+            if !self.tracking.position_lost {
+                log::warn!(
+                    "head position lost (orientation still tracked): rendering from the last \
+                     known position"
+                );
+                self.tracking.position_lost = true;
+            }
+            let positions = self.tracking.last_positions.unwrap_or(STANDING_EYES);
+            for (v, p) in views.iter_mut().zip(positions) {
+                v.pose.position = p;
+            }
+        }
+        Ok(Some(views))
     }
 
     /// Reads the controllers, moves the user and collects the tweaks of this frame.
@@ -249,6 +275,12 @@ impl OpenXr {
             if self.locomotion.update(p, q, frame.glide, frame.turn_x, dt) {
                 log::debug!("snap turn: yaw {:.0}°", self.locomotion.yaw().to_degrees());
             }
+            if frame.recenter {
+                self.locomotion.recenter(p, q);
+                log::info!("recentred on the deck");
+                let s = self.session();
+                s.input.tick(&s.session);
+            }
         }
         let mut n = 0;
         if frame.next_preset {
@@ -263,6 +295,30 @@ impl OpenXr {
         }
         Ok(())
     }
+}
+
+/// Eye positions assumed when the position was never tracked: standing, 63 mm apart, at the
+/// space's origin.
+const STANDING_EYES: [xr::Vector3f; 2] = [
+    xr::Vector3f {
+        x: -0.0315,
+        y: LOCAL_EYE_HEIGHT,
+        z: 0.0,
+    },
+    xr::Vector3f {
+        x: 0.0315,
+        y: LOCAL_EYE_HEIGHT,
+        z: 0.0,
+    },
+];
+
+/// What is known of the head's tracking between frames.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Tracking {
+    /// Both eyes' positions when the position was last valid.
+    pub last_positions: Option<[xr::Vector3f; 2]>,
+    /// Whether the position is lost now (logged once per loss).
+    pub position_lost: bool,
 }
 
 /// The head pose: midway between the eyes, with the left eye's orientation.

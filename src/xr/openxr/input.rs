@@ -1,13 +1,15 @@
-//! Controller input through OpenXR actions, with suggested bindings for the Oculus Touch
-//! controllers (Quest) and the Khronos simple controller (any runtime):
+//! Controller input through OpenXR actions, with suggested bindings for the Touch controllers
+//! (Quest 2's Touch; Quest 3/3S's Touch Plus and Quest Pro's Touch Pro, each when the runtime
+//! has its extension) and the Khronos simple controller (any runtime):
 //!
-//! | action | Touch | simple controller |
+//! | action | Touch, Touch Plus, Touch Pro | simple controller |
 //! |---|---|---|
 //! | glide over the water | left thumbstick | — |
 //! | snap turn | right thumbstick | — |
 //! | next quality preset (haptic tick) | A | right menu |
 //! | wind +1 m/s (repeats while held) | right trigger | right select |
 //! | wind −1 m/s | left trigger | left select |
+//! | recenter on the deck (hold 1 s, haptic tick) | B | left menu |
 
 use glam::Vec2;
 use openxr as xr;
@@ -15,31 +17,77 @@ use openxr as xr;
 /// Action paths of one interaction profile.
 struct Profile {
     path: &'static str,
+    /// Whether the instance may name this profile (its extension is enabled).
+    usable: fn(&xr::InstanceExtensions) -> bool,
     glide: Option<&'static str>,
     turn: Option<&'static str>,
     preset: &'static str,
     wind_up: &'static str,
     wind_down: &'static str,
+    recenter: &'static str,
 }
 
-const PROFILES: [Profile; 2] = [
+/// A profile of the Touch family: the same controls on every model.
+const fn touch(path: &'static str, usable: fn(&xr::InstanceExtensions) -> bool) -> Profile {
     Profile {
-        path: "/interaction_profiles/oculus/touch_controller",
+        path,
+        usable,
         glide: Some("/user/hand/left/input/thumbstick"),
         turn: Some("/user/hand/right/input/thumbstick"),
         preset: "/user/hand/right/input/a/click",
         wind_up: "/user/hand/right/input/trigger/value",
         wind_down: "/user/hand/left/input/trigger/value",
-    },
+        recenter: "/user/hand/right/input/b/click",
+    }
+}
+
+/// Every profile we suggest bindings for. The Touch Plus and Touch Pro profiles extend Touch;
+/// naming them without their extension would fail (`XR_ERROR_PATH_UNSUPPORTED`).
+const PROFILES: [Profile; 4] = [
+    touch("/interaction_profiles/oculus/touch_controller", |_| true),
+    touch("/interaction_profiles/meta/touch_controller_plus", |e| {
+        e.meta_touch_controller_plus.is_some()
+    }),
+    touch("/interaction_profiles/facebook/touch_controller_pro", |e| {
+        e.fb_touch_controller_pro.is_some()
+    }),
     Profile {
         path: "/interaction_profiles/khr/simple_controller",
+        usable: |_| true,
         glide: None,
         turn: None,
         preset: "/user/hand/right/input/menu/click",
         wind_up: "/user/hand/right/input/select/click",
         wind_down: "/user/hand/left/input/select/click",
+        recenter: "/user/hand/left/input/menu/click",
     },
 ];
+
+/// A button held for [`LongPress::HOLD`] seconds: fires once per press.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct LongPress {
+    held: f32,
+    fired: bool,
+}
+
+impl LongPress {
+    /// Seconds the button must be held.
+    pub const HOLD: f32 = 1.0;
+
+    /// One frame: `down` the button state, `dt` s since the last frame. True when it fires.
+    pub fn update(&mut self, down: bool, dt: f32) -> bool {
+        if !down {
+            *self = Self::default();
+            return false;
+        }
+        self.held += dt.max(0.0);
+        if !self.fired && self.held >= Self::HOLD {
+            self.fired = true;
+            return true;
+        }
+        false
+    }
+}
 
 /// A trigger as a repeating button: fires when pressed past `PRESS`, then every `REPEAT`
 /// seconds while held, and re-arms below `RELEASE`.
@@ -91,6 +139,8 @@ pub struct InputFrame {
     pub next_preset: bool,
     /// Wind steps this frame (+1 up, −1 down, 0).
     pub wind_steps: i32,
+    /// The recenter button was held long enough this frame.
+    pub recenter: bool,
 }
 
 /// The action set and its actions.
@@ -101,10 +151,12 @@ pub struct Input {
     preset: xr::Action<bool>,
     wind_up: xr::Action<f32>,
     wind_down: xr::Action<f32>,
+    recenter: xr::Action<bool>,
     haptic: xr::Action<xr::Haptic>,
     right: xr::Path,
     up: TriggerRepeat,
     down: TriggerRepeat,
+    hold: LongPress,
 }
 
 impl Input {
@@ -137,10 +189,13 @@ impl Input {
         let wind_down = set
             .create_action::<f32>("wind_down", "Lower the wind", &[])
             .map_err(|e| err("wind_down", e))?;
+        let recenter = set
+            .create_action::<bool>("recenter", "Recenter on the deck (hold)", &[])
+            .map_err(|e| err("recenter", e))?;
         let haptic = set
             .create_action::<xr::Haptic>("tick", "Haptic tick", &[left, right])
             .map_err(|e| err("tick", e))?;
-        for p in &PROFILES {
+        for p in PROFILES.iter().filter(|p| (p.usable)(instance.exts())) {
             let path = |s: &str| instance.string_to_path(s);
             let suggest = || -> Result<(), xr::sys::Result> {
                 let profile = path(p.path)?;
@@ -148,6 +203,7 @@ impl Input {
                     xr::Binding::new(&preset, path(p.preset)?),
                     xr::Binding::new(&wind_up, path(p.wind_up)?),
                     xr::Binding::new(&wind_down, path(p.wind_down)?),
+                    xr::Binding::new(&recenter, path(p.recenter)?),
                     xr::Binding::new(&haptic, path("/user/hand/left/output/haptic")?),
                     xr::Binding::new(&haptic, path("/user/hand/right/output/haptic")?),
                 ];
@@ -160,7 +216,7 @@ impl Input {
                 instance.suggest_interaction_profile_bindings(profile, &b)
             };
             match suggest() {
-                Ok(()) => log::debug!("bindings suggested for {}", p.path),
+                Ok(()) => log::info!("bindings suggested for {}", p.path),
                 Err(e) => log::warn!("the runtime rejected bindings for {}: {e:?} ({e})", p.path),
             }
         }
@@ -171,10 +227,12 @@ impl Input {
             preset,
             wind_up,
             wind_down,
+            recenter,
             haptic,
             right,
             up: TriggerRepeat::default(),
             down: TriggerRepeat::default(),
+            hold: LongPress::default(),
         })
     }
 
@@ -213,15 +271,18 @@ impl Input {
         };
         let wind_steps =
             self.up.update(up_value, dt) as i32 - self.down.update(down_value, dt) as i32;
+        let r = self.recenter.state(session, any)?;
+        let recenter = self.hold.update(r.is_active && r.current_state, dt);
         Ok(InputFrame {
             glide,
             turn_x: turn.x,
             next_preset: p.is_active && p.changed_since_last_sync && p.current_state,
             wind_steps,
+            recenter,
         })
     }
 
-    /// A short tick on the right controller (preset changed).
+    /// A short tick on the right controller (preset changed, recentred).
     pub fn tick(&self, session: &xr::Session<xr::Vulkan>) {
         let vibration = xr::HapticVibration::new()
             .amplitude(0.6)
@@ -236,6 +297,38 @@ impl Input {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_long_press_fires_once_after_a_second() {
+        let mut b = LongPress::default();
+        let dt = 1.0 / 72.0;
+        let mut fired = Vec::new();
+        for i in 0..200 {
+            if b.update(true, dt) {
+                fired.push(i);
+            }
+        }
+        // Once, after 72 frames (1 s) of holding, not again while held.
+        assert_eq!(fired, [71]);
+        // A short press does nothing; a new long press fires again.
+        for _ in 0..30 {
+            assert!(!b.update(false, dt));
+            assert!(!b.update(true, dt));
+        }
+        assert!(!b.update(false, dt));
+        assert!((0..80).any(|_| b.update(true, dt)));
+    }
+
+    #[test]
+    fn the_touch_plus_and_pro_profiles_need_their_extensions() {
+        let names: Vec<&str> = PROFILES.iter().map(|p| p.path).collect();
+        assert!(names.contains(&"/interaction_profiles/meta/touch_controller_plus"));
+        assert!(names.contains(&"/interaction_profiles/facebook/touch_controller_pro"));
+        // Every profile binds every action the user has.
+        for p in &PROFILES {
+            assert!(p.recenter.starts_with("/user/hand/"), "{}", p.path);
+        }
+    }
 
     #[test]
     fn trigger_fires_on_press_then_repeats_while_held() {

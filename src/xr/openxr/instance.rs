@@ -46,6 +46,14 @@ pub(super) fn create_instance(
     enabled.fb_foveation = available.fb_foveation && available.fb_swapchain_update_state;
     enabled.fb_swapchain_update_state = enabled.fb_foveation;
     enabled.ext_performance_settings = available.ext_performance_settings;
+    // LOCAL_FLOOR (core in OpenXR 1.1; this instance is 1.0): the floor under a recentrable
+    // origin.
+    enabled.ext_local_floor = available.ext_local_floor;
+    // Exact bindings for Quest 3/3S and Quest Pro controllers (both extend the Touch profile).
+    enabled.meta_touch_controller_plus = available.meta_touch_controller_plus;
+    enabled.fb_touch_controller_pro = available.fb_touch_controller_pro;
+    // The colour gamut of sRGB content set explicitly (Rec. 709).
+    enabled.fb_color_space = available.fb_color_space;
     #[cfg(target_os = "android")]
     if android {
         if !available.khr_android_create_instance {
@@ -55,6 +63,7 @@ pub(super) fn create_instance(
             ));
         }
         enabled.khr_android_create_instance = true;
+        enabled.khr_android_thread_settings = available.khr_android_thread_settings;
     }
     #[cfg(not(target_os = "android"))]
     let _ = android;
@@ -68,6 +77,16 @@ pub(super) fn create_instance(
             enabled.fb_display_refresh_rate,
         ),
         ("XR_FB_foveation", enabled.fb_foveation),
+        ("XR_EXT_local_floor", enabled.ext_local_floor),
+        (
+            "XR_META_touch_controller_plus",
+            enabled.meta_touch_controller_plus,
+        ),
+        (
+            "XR_FB_touch_controller_pro",
+            enabled.fb_touch_controller_pro,
+        ),
+        ("XR_FB_color_space", enabled.fb_color_space),
         (
             "XR_EXT_performance_settings",
             enabled.ext_performance_settings,

@@ -29,6 +29,7 @@ mod quest_setup;
 mod session;
 mod stats;
 pub mod swapchain;
+mod threads;
 pub mod vulkan;
 
 use std::time::{Duration, Instant};
@@ -43,7 +44,7 @@ pub use self::exit_signal::{install_exit_signal_handler, EXIT_SIGNAL};
 use self::lifecycle::{Action, Lifecycle};
 use self::quest::{Foveation, Headset, PerfLevel, RefreshGovernor};
 use self::quest_setup::QuestSettings;
-use self::session::Session;
+use self::session::{Session, SessionSettings};
 use self::stats::FrameStats;
 pub use self::stats::Summary;
 use super::locomotion::{Locomotion, LocomotionSettings};
@@ -72,6 +73,10 @@ pub struct OpenXrOptions {
     /// The quality preset the app starts with (the controller button cycles from it; `None`:
     /// the headset's default, see [`OpenXr::preset`]).
     pub preset: Option<QualityPreset>,
+    /// Submit depth to the compositor (`XR_KHR_composition_layer_depth`): for runtimes whose
+    /// reprojection uses it (PC runtimes' positional timewarp). Off by default: no feature on
+    /// Quest uses it, and storing it costs bandwidth every frame.
+    pub submit_depth: bool,
 }
 
 impl Default for OpenXrOptions {
@@ -85,6 +90,7 @@ impl Default for OpenXrOptions {
             perf_levels: (PerfLevel::SustainedHigh, PerfLevel::SustainedHigh),
             deck_height: 2.9,
             preset: None,
+            submit_depth: false,
         }
     }
 }
@@ -144,6 +150,10 @@ pub struct OpenXr {
     last_gpu: Option<Duration>,
     /// Whether `xrRequestExitSession` was sent.
     exit_sent: bool,
+    /// The head's tracking state between frames (last valid eye positions).
+    tracking: frame::Tracking,
+    /// Which threads the runtime was told about (Android).
+    threads: threads::ThreadSettings,
     stats: FrameStats,
     event_buffer: xr::EventDataBuffer,
 }
@@ -224,7 +234,11 @@ impl OpenXr {
         let requirements = instance
             .graphics_requirements::<xr::Vulkan>(system)
             .call("xrGetVulkanGraphicsRequirements2KHR")?;
-        let api_version = vulkan::api_version(&requirements).map_err(backend)?;
+        let choice = vulkan::api_version(&requirements);
+        if let Some(w) = &choice.warning {
+            log::warn!("{w}");
+        }
+        let api_version = choice.version;
         let factory = vulkan::RuntimeVulkan::new(&instance, system);
         let ctx = GpuContext::with_factory(
             &ContextOptions {
@@ -237,8 +251,12 @@ impl OpenXr {
         if !ctx.multiview {
             log::warn!("the device has no multiview; rendering both eyes in two passes");
         }
-        let (mut session, facts) =
-            Session::new(&instance, &ctx, system, extent, options.deck_height)?;
+        let settings = SessionSettings {
+            extent,
+            deck_height: options.deck_height,
+            submit_depth: options.submit_depth,
+        };
+        let (mut session, facts) = Session::new(&instance, &ctx, system, &settings)?;
         let quest = QuestSettings {
             foveation: options.foveation.unwrap_or(defaults.foveation),
             max_refresh_rate: options
@@ -247,15 +265,20 @@ impl OpenXr {
             perf_levels: options.perf_levels,
         };
         let refresh = quest_setup::start(&instance, &mut session, &quest);
+        let refresh_rate = refresh
+            .as_ref()
+            .map(|g| g.rate())
+            .or_else(|| quest_setup::current_refresh_rate(&instance, &session.session));
         let summary = Summary {
             runtime,
             eye_size: (extent.width, extent.height),
             colour_format: format!("{:?}", session.colour.format),
             depth: session.depth.is_some(),
             space: facts.space_name.into(),
-            refresh_rate: refresh.as_ref().map(|g| g.rate()),
+            refresh_rate,
             ..Summary::default()
         };
+        let threads = threads::ThreadSettings::start(&instance, &session.session);
         Ok(Self {
             session: Some(session),
             ctx: Some(ctx),
@@ -274,6 +297,8 @@ impl OpenXr {
             index: 0,
             last_gpu: None,
             exit_sent: false,
+            tracking: frame::Tracking::default(),
+            threads,
             stats: FrameStats::new(summary),
             event_buffer: xr::EventDataBuffer::new(),
         })

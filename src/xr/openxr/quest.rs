@@ -162,7 +162,9 @@ pub struct DeviceDefaults {
 
 /// Picks the display refresh rate and steps it down when frames do not fit its budget.
 ///
-/// It starts at the highest offered rate at or under the cap. A frame "misses" when its cost
+/// Only rates of at least [`RefreshGovernor::MIN_RATE`] (72 Hz) are ever chosen: Meta's store
+/// rules (VRC.Quest.Performance.1) require interactive apps to run at 72, 80, 90, 96, 100 or
+/// 120 Hz; 60 Hz is for media apps. It starts at the highest offered rate in [72 Hz, cap]. A frame "misses" when its cost
 /// (the larger of the app's CPU time after `xrWaitFrame` and the GPU pass) exceeds
 /// [`RefreshGovernor::BUDGET_SHARE`] of the period; when more than a
 /// tenth of the frames of a 2-second window miss, the next lower rate is asked for. It never
@@ -179,13 +181,16 @@ impl RefreshGovernor {
     /// Share of the frame period the app's CPU work may take.
     pub const BUDGET_SHARE: f64 = 0.85;
 
-    /// Rates offered by the runtime, the highest at or under `cap` (Hz) first; `None` when
-    /// none is at or under the cap.
+    /// The lowest rate an interactive app may use (Hz).
+    pub const MIN_RATE: f32 = 72.0;
+
+    /// Rates offered by the runtime in [[`Self::MIN_RATE`], `cap`] (Hz), the highest first;
+    /// `None` when none is (the runtime's own rate is then left alone).
     pub fn new(offered: &[f32], cap: f32) -> Option<Self> {
         let mut rates: Vec<f32> = offered
             .iter()
             .copied()
-            .filter(|r| r.is_finite() && *r > 0.0 && *r <= cap)
+            .filter(|r| r.is_finite() && *r >= Self::MIN_RATE - 0.5 && *r <= cap)
             .collect();
         rates.sort_by(|a, b| b.total_cmp(a));
         rates.dedup();
@@ -267,9 +272,12 @@ mod tests {
         let quest3 = [72.0, 80.0, 90.0, 120.0];
         assert_eq!(RefreshGovernor::new(&quest3, 120.0).unwrap().rate(), 120.0);
         assert_eq!(RefreshGovernor::new(&quest3, 100.0).unwrap().rate(), 90.0);
-        // Monado's null compositor offers only 20 Hz.
-        assert_eq!(RefreshGovernor::new(&[20.0], 120.0).unwrap().rate(), 20.0);
+        // Monado's null compositor offers only 20 Hz: below 72, so nothing is asked for.
+        assert!(RefreshGovernor::new(&[20.0], 120.0).is_none());
         assert!(RefreshGovernor::new(&[72.0], 60.0).is_none());
+        // Quest 2 offers 60 Hz too; an interactive app never takes it.
+        let quest2 = [60.0, 72.0, 80.0, 90.0, 120.0];
+        assert_eq!(RefreshGovernor::new(&quest2, 72.0).unwrap().rate(), 72.0);
         assert!(RefreshGovernor::new(&[], 120.0).is_none());
     }
 
@@ -295,6 +303,21 @@ mod tests {
         for _ in 0..1000 {
             assert_eq!(g.observe(0.010), None);
         }
+        assert_eq!(g.rate(), 72.0);
+    }
+
+    #[test]
+    fn never_steps_below_72_hz() {
+        // The rates the fault layer offers in the OpenXR test: 60, 72, 90.
+        let mut g = RefreshGovernor::new(&[60.0, 72.0, 90.0], 120.0).unwrap();
+        let mut seen = vec![g.rate()];
+        // Frames far too slow for any rate: it steps down once, then holds at 72.
+        for _ in 0..2000 {
+            if let Some(r) = g.observe(0.050) {
+                seen.push(r);
+            }
+        }
+        assert_eq!(seen, [90.0, 72.0]);
         assert_eq!(g.rate(), 72.0);
     }
 

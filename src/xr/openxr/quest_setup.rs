@@ -1,8 +1,10 @@
 //! Start-up of the Quest extensions, each only when the runtime lists it: fixed foveation on
 //! the colour swapchain (`XR_FB_foveation` + `XR_FB_swapchain_update_state`), the display
 //! refresh rate (`XR_FB_display_refresh_rate`, with the governor of [`super::quest`]) and the
-//! CPU/GPU performance levels (`XR_EXT_performance_settings`). A missing or failing extension
-//! is logged and skipped: none of them is needed to show the ocean.
+//! CPU/GPU performance levels (`XR_EXT_performance_settings`) and the colour space
+//! (`XR_FB_color_space`: Rec. 709, the gamut of sRGB content, instead of the runtime's
+//! default). A missing or failing extension is logged and skipped: none of them is needed to
+//! show the ocean.
 
 use openxr as xr;
 
@@ -29,6 +31,7 @@ pub(super) fn start(
 ) -> Option<RefreshGovernor> {
     session.foveation = foveation(instance, session, settings.foveation);
     perf_levels(instance, &session.session, settings.perf_levels);
+    colour_space(instance, &session.session);
     refresh_rate(instance, &session.session, settings.max_refresh_rate)
 }
 
@@ -108,7 +111,11 @@ fn refresh_rate(
         .map_err(|e| log::warn!("xrEnumerateDisplayRefreshRatesFB: {e:?} ({e})"))
         .ok()?;
     let Some(g) = RefreshGovernor::new(&rates, cap) else {
-        log::warn!("no display refresh rate at or under {cap} Hz in {rates:?}");
+        log::warn!(
+            "the runtime offers no display refresh rate from {} to {cap} Hz ({rates:?}); \
+             leaving its own rate",
+            RefreshGovernor::MIN_RATE
+        );
         return None;
     };
     log::info!("display refresh rates {rates:?}: asking for {}", g.rate());
@@ -116,4 +123,39 @@ fn refresh_rate(
         log::warn!("xrRequestDisplayRefreshRateFB: {e:?} ({e})");
     }
     Some(g)
+}
+
+/// The gamut of our sRGB content, Rec. 709, set explicitly: runtimes disagree on the default
+/// (the specification names Rift CV1's for Oculus headsets; Quest documents say Rec. 2020 or
+/// Rec. 709 by model), and a wider default gamut would oversaturate every colour.
+fn colour_space(instance: &xr::Instance, session: &xr::Session<xr::Vulkan>) {
+    if instance.exts().fb_color_space.is_none() {
+        return;
+    }
+    let offered = match session.enumerate_color_spaces() {
+        Ok(c) => c,
+        Err(e) => {
+            log::warn!("xrEnumerateColorSpacesFB: {e:?} ({e})");
+            return;
+        }
+    };
+    if !offered.contains(&xr::ColorSpaceFB::REC709) {
+        log::warn!(
+            "the runtime offers no Rec. 709 colour space ({offered:?}); keeping its default"
+        );
+        return;
+    }
+    match session.set_color_space(xr::ColorSpaceFB::REC709) {
+        Ok(()) => log::info!("colour space: Rec. 709 (sRGB primaries)"),
+        Err(e) => log::warn!("xrSetColorSpaceFB(REC709): {e:?} ({e})"),
+    }
+}
+
+/// The runtime's current display refresh rate (Hz), when it says (`XR_FB_display_refresh_rate`).
+pub(super) fn current_refresh_rate(
+    instance: &xr::Instance,
+    session: &xr::Session<xr::Vulkan>,
+) -> Option<f32> {
+    instance.exts().fb_display_refresh_rate.as_ref()?;
+    session.get_display_refresh_rate().ok()
 }

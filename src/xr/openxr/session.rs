@@ -1,6 +1,7 @@
 //! Session creation: the session on our Vulkan device, the reference space the user stands in
-//! (STAGE when offered, LOCAL otherwise), the 2-layer sRGB colour swapchain and, with
-//! `XR_KHR_composition_layer_depth`, the depth swapchain, and the actions.
+//! (LOCAL_FLOOR when offered, then STAGE, then LOCAL), the 2-layer sRGB colour swapchain and,
+//! when asked for and the runtime takes it (`XR_KHR_composition_layer_depth`), the depth
+//! swapchain, and the actions.
 
 use ash::vk;
 use openxr as xr;
@@ -34,21 +35,55 @@ pub(super) struct Session {
 
 /// What the session was set up with, for the locomotion and the summary.
 pub(super) struct SessionFacts {
-    /// STAGE or LOCAL.
+    /// LOCAL_FLOOR, STAGE or LOCAL.
     pub space_name: &'static str,
     /// Height of the space's origin above the mean sea level (m).
     pub origin_height: f32,
 }
 
+/// What the session is created with.
+pub(super) struct SessionSettings {
+    /// Per-eye image size.
+    pub extent: vk::Extent2D,
+    /// Height of the user's floor above the mean sea level (m).
+    pub deck_height: f32,
+    /// Submit depth to the compositor (a depth swapchain stored every frame).
+    pub submit_depth: bool,
+}
+
+/// The reference space to stand in, best first: LOCAL_FLOOR (a floor-level origin the user can
+/// recentre; core in OpenXR 1.1, `XR_EXT_local_floor` here), STAGE (the room's floor, not
+/// recentred), LOCAL (eye level: the deck goes an assumed eye height lower). Returns the type,
+/// its name and the origin's height above the sea for a floor `deck_height` above it.
+pub fn choose_space(
+    offered: &[xr::ReferenceSpaceType],
+    deck_height: f32,
+) -> (xr::ReferenceSpaceType, &'static str, f32) {
+    if offered.contains(&xr::ReferenceSpaceType::LOCAL_FLOOR) {
+        (
+            xr::ReferenceSpaceType::LOCAL_FLOOR,
+            "LOCAL_FLOOR",
+            deck_height,
+        )
+    } else if offered.contains(&xr::ReferenceSpaceType::STAGE) {
+        (xr::ReferenceSpaceType::STAGE, "STAGE", deck_height)
+    } else {
+        (
+            xr::ReferenceSpaceType::LOCAL,
+            "LOCAL",
+            deck_height + LOCAL_EYE_HEIGHT,
+        )
+    }
+}
+
 impl Session {
     /// Creates the session on `ctx` (made by the runtime for `system`), its space, swapchains
-    /// of `extent` per eye and actions. The user's floor is `deck_height` above the sea.
+    /// and actions.
     pub fn new(
         instance: &xr::Instance,
         ctx: &GpuContext,
         system: xr::SystemId,
-        extent: vk::Extent2D,
-        deck_height: f32,
+        settings: &SessionSettings,
     ) -> Result<(Self, SessionFacts), XrError> {
         // SAFETY: the handles come from the context the runtime created for this system; the
         // queue is only used from this thread.
@@ -68,32 +103,17 @@ impl Session {
         let spaces = session
             .enumerate_reference_spaces()
             .call("xrEnumerateReferenceSpaces")?;
-        let facts = if spaces.contains(&xr::ReferenceSpaceType::STAGE) {
-            SessionFacts {
-                space_name: "STAGE",
-                origin_height: deck_height,
-            }
-        } else {
-            SessionFacts {
-                space_name: "LOCAL",
-                origin_height: deck_height + LOCAL_EYE_HEIGHT,
-            }
-        };
-        let (space_type, call) = if facts.space_name == "STAGE" {
-            (
-                xr::ReferenceSpaceType::STAGE,
-                "xrCreateReferenceSpace(STAGE)",
-            )
-        } else {
-            (
-                xr::ReferenceSpaceType::LOCAL,
-                "xrCreateReferenceSpace(LOCAL)",
-            )
-        };
+        let (space_type, space_name, origin_height) = choose_space(&spaces, settings.deck_height);
         let space = session
             .create_reference_space(space_type, xr::Posef::IDENTITY)
-            .call(call)?;
-        let (colour, depth) = swapchains(instance, &session, extent)?;
+            .call("xrCreateReferenceSpace")?;
+        log::info!("reference space: {space_name}");
+        let facts = SessionFacts {
+            space_name,
+            origin_height,
+        };
+        let extent = settings.extent;
+        let (colour, depth) = swapchains(instance, &session, extent, settings.submit_depth)?;
         let input = Input::new(instance).map_err(backend)?;
         input.attach(&session).map_err(backend)?;
         Ok((
@@ -118,6 +138,7 @@ fn swapchains(
     instance: &xr::Instance,
     session: &xr::Session<xr::Vulkan>,
     extent: vk::Extent2D,
+    submit_depth: bool,
 ) -> Result<(ArraySwapchain, Option<ArraySwapchain>), XrError> {
     let formats = session
         .enumerate_swapchain_formats()
@@ -128,12 +149,13 @@ fn swapchains(
         session,
         colour_format,
         extent,
-        xr::SwapchainUsageFlags::COLOR_ATTACHMENT,
+        // Transfer destination too: the two-pass fallback with MSAA resolves into it.
+        xr::SwapchainUsageFlags::COLOR_ATTACHMENT | xr::SwapchainUsageFlags::TRANSFER_DST,
     )
     .map_err(backend)?;
-    let depth = if instance.exts().khr_composition_layer_depth.is_some()
-        && swapchain::offers_depth(&formats)
-    {
+    let takes_depth =
+        instance.exts().khr_composition_layer_depth.is_some() && swapchain::offers_depth(&formats);
+    let depth = if submit_depth && takes_depth {
         Some(
             ArraySwapchain::new(
                 session,
@@ -144,7 +166,15 @@ fn swapchains(
             .map_err(backend)?,
         )
     } else {
-        log::info!("depth is not submitted (no XR_KHR_composition_layer_depth or D32 format)");
+        if submit_depth {
+            log::warn!(
+                "depth is not submitted: the runtime lacks XR_KHR_composition_layer_depth or \
+                 the D32 format"
+            );
+        }
+        // No feature here uses submitted depth (no space warp; Quest's positional timewarp
+        // estimates its own): it would store two depth layers to memory every frame for
+        // nothing, so by default depth stays transient and discarded.
         None
     };
     log::info!(

@@ -109,25 +109,41 @@ impl VulkanFactory for RuntimeVulkan<'_> {
     }
 }
 
-/// Checks the renderer's Vulkan version against the runtime's supported range and returns the
-/// version to ask for: 1.1, or the runtime's minimum when that is higher.
-pub fn api_version(req: &xr::vulkan::Requirements) -> Result<u32, String> {
+/// The Vulkan version to ask the runtime for: 1.1 (multiview, core there), or the runtime's
+/// minimum when that is higher. Only the minimum binds: the maximum is the highest version the
+/// runtime "has been tested on" (the `XR_KHR_vulkan_enable2` specification; Meta's PC runtime
+/// has reported 1.0 and works with 1.1), so asking above it is a warning, not an error. Whether
+/// the device really offers multiview is checked when the context is made.
+pub fn api_version(req: &xr::vulkan::Requirements) -> VersionChoice {
     let ours = xr::Version::new(1, 1, 0);
     let min = req.min_api_version_supported;
     let max = req.max_api_version_supported;
     let pick = if min > ours { min } else { ours };
     // Patch numbers do not matter for compatibility.
     let (pm, pn) = (pick.major(), pick.minor());
-    if (pm, pn) > (max.major(), max.minor()) {
-        return Err(format!(
-            "the OpenXR runtime supports Vulkan {}.{} to {}.{}; vr-ocean needs 1.1 or later",
-            min.major(),
-            min.minor(),
-            max.major(),
-            max.minor()
-        ));
+    let above_tested = (pm, pn) > (max.major(), max.minor());
+    VersionChoice {
+        version: vk::make_api_version(0, pm as u32, pn as u32, 0),
+        warning: above_tested.then(|| {
+            format!(
+                "the OpenXR runtime was tested with Vulkan {}.{} to {}.{}; asking for {pm}.{pn} \
+                 anyway (the maximum is not a limit)",
+                min.major(),
+                min.minor(),
+                max.major(),
+                max.minor()
+            )
+        }),
     }
-    Ok(vk::make_api_version(0, pm as u32, pn as u32, 0))
+}
+
+/// What [`api_version`] chose.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct VersionChoice {
+    /// The Vulkan API version to create the instance with.
+    pub version: u32,
+    /// Set when the version is above the runtime's tested maximum (log it once).
+    pub warning: Option<String>,
 }
 
 #[cfg(test)]
@@ -144,14 +160,19 @@ mod tests {
     #[test]
     fn version_range_is_honoured() {
         // Monado: 1.0 to 1023.1023.
-        assert_eq!(
-            api_version(&req((1, 0), (1023, 1023))),
-            Ok(vk::API_VERSION_1_1)
-        );
+        let monado = api_version(&req((1, 0), (1023, 1023)));
+        assert_eq!(monado.version, vk::API_VERSION_1_1);
+        assert_eq!(monado.warning, None);
         // A runtime that needs 1.2 gets 1.2.
-        assert_eq!(api_version(&req((1, 2), (1, 3))), Ok(vk::API_VERSION_1_2));
-        // One that stops at 1.0 cannot run the multiview renderer.
-        let e = api_version(&req((1, 0), (1, 0))).unwrap_err();
-        assert!(e.contains("1.0 to 1.0") && e.contains("1.1"), "{e}");
+        assert_eq!(
+            api_version(&req((1, 2), (1, 3))).version,
+            vk::API_VERSION_1_2
+        );
+        // One tested only with 1.0 (Meta's PC runtime has said so) still gets 1.1, with a
+        // warning: the maximum is what the runtime was tested with, not a limit.
+        let tested_1_0 = api_version(&req((1, 0), (1, 0)));
+        assert_eq!(tested_1_0.version, vk::API_VERSION_1_1);
+        let w = tested_1_0.warning.unwrap();
+        assert!(w.contains("1.0 to 1.0") && w.contains("1.1"), "{w}");
     }
 }
