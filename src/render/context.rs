@@ -34,6 +34,9 @@ pub struct ContextOptions {
     pub present: bool,
     /// The Vulkan API version asked for (at least 1.1; an OpenXR runtime may need more).
     pub api_version: u32,
+    /// Enable `VK_EXT_fragment_density_map` (fixed foveation) when the device has it with
+    /// non-subsampled images; [`GpuContext::fragment_density_map`] says whether it did.
+    pub fragment_density_map: bool,
 }
 
 impl Default for ContextOptions {
@@ -43,6 +46,7 @@ impl Default for ContextOptions {
             instance_extensions: Vec::new(),
             present: false,
             api_version: vk::API_VERSION_1_1,
+            fragment_density_map: false,
         }
     }
 }
@@ -164,6 +168,9 @@ pub struct GpuContext {
     pub timestamp_period: Option<f32>,
     /// Sample counts usable for both colour and depth attachments (MSAA).
     pub sample_counts: vk::SampleCountFlags,
+    /// Whether `VK_EXT_fragment_density_map` is enabled (asked for, and the device has it with
+    /// `fragmentDensityMapNonSubsampledImages`, so no attachment needs subsampling).
+    pub fragment_density_map: bool,
     /// Memory types of the device.
     pub memory: vk::PhysicalDeviceMemoryProperties,
     /// Device name, for logs and reports.
@@ -318,11 +325,22 @@ impl GpuContext {
         if opts.present {
             dev_ext.push(ash::khr::swapchain::NAME.as_ptr());
         }
+        let fragment_density_map =
+            opts.fragment_density_map && has_fragment_density_map(instance, physical);
+        if fragment_density_map {
+            dev_ext.push(ash::ext::fragment_density_map::NAME.as_ptr());
+        }
         let mut enable_mv = vk::PhysicalDeviceMultiviewFeatures::default().multiview(multiview);
-        let dinfo = vk::DeviceCreateInfo::default()
+        let mut enable_fdm = vk::PhysicalDeviceFragmentDensityMapFeaturesEXT::default()
+            .fragment_density_map(true)
+            .fragment_density_map_non_subsampled_images(true);
+        let mut dinfo = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queues)
             .enabled_extension_names(&dev_ext)
             .push_next(&mut enable_mv);
+        if fragment_density_map {
+            dinfo = dinfo.push_next(&mut enable_fdm);
+        }
         let raw = factory.create_device(instance, physical, &dinfo)?;
         // SAFETY: `raw` was just created on `physical` of this instance.
         let device = unsafe { ash::Device::load(instance.fp_v1_0(), raw) };
@@ -345,6 +363,7 @@ impl GpuContext {
             multiview,
             timestamp_period,
             sample_counts,
+            fragment_density_map,
             memory,
             device_name,
             cpu_device: props.device_type == vk::PhysicalDeviceType::CPU,
@@ -404,6 +423,25 @@ impl GpuContext {
             log::error!("vkDeviceWaitIdle: {e}");
         }
     }
+}
+
+/// Whether `physical` offers `VK_EXT_fragment_density_map` with the features fixed foveation
+/// needs (`fragmentDensityMap`, `fragmentDensityMapNonSubsampledImages`).
+fn has_fragment_density_map(instance: &ash::Instance, physical: vk::PhysicalDevice) -> bool {
+    // SAFETY: `physical` belongs to `instance`.
+    let listed = unsafe { instance.enumerate_device_extension_properties(physical) }
+        .unwrap_or_default()
+        .iter()
+        .any(|e| e.extension_name_as_c_str() == Ok(ash::ext::fragment_density_map::NAME));
+    if !listed {
+        return false;
+    }
+    let mut fdm = vk::PhysicalDeviceFragmentDensityMapFeaturesEXT::default();
+    let mut f2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut fdm);
+    // SAFETY: `physical` belongs to `instance`; the chain lives on this stack frame.
+    unsafe { instance.get_physical_device_features2(physical, &mut f2) };
+    fdm.fragment_density_map == vk::TRUE
+        && fdm.fragment_density_map_non_subsampled_images == vk::TRUE
 }
 
 impl Drop for GpuContext {

@@ -93,7 +93,13 @@ pub struct PassLayout {
     pub msaa: Msaa,
     /// Keep the depth after the pass (an OpenXR depth swapchain; single-sample only).
     pub store_depth: bool,
+    /// A fragment density map attachment (fixed foveation), last in the framebuffer.
+    pub density_map: bool,
 }
+
+/// The format of the runtime's fragment density maps (every runtime and engine uses it; the
+/// OpenXR specification does not say).
+pub const DENSITY_MAP_FORMAT: vk::Format = vk::Format::R8G8_UNORM;
 
 impl PassLayout {
     /// Whether the subpass resolves the multisampled colour into the eye image (a resolve
@@ -110,13 +116,10 @@ impl PassLayout {
     }
 
     /// The attachments of a framebuffer, in order: colour (multisampled with MSAA; the eye
-    /// image without), depth (likewise), then, resolving in the pass, the eye image.
+    /// image without), depth (likewise), then, resolving in the pass, the eye image, then the
+    /// density map.
     pub fn attachment_count(&self) -> usize {
-        if self.resolves_in_pass() {
-            3
-        } else {
-            2
-        }
+        2 + usize::from(self.resolves_in_pass()) + usize::from(self.density_map)
     }
 }
 
@@ -164,6 +167,11 @@ impl Pipelines {
                 pass.msaa.samples(),
                 ctx.sample_counts
             )));
+        }
+        if pass.density_map && !ctx.fragment_density_map {
+            return Err(RenderError::Unsupported(
+                "VK_EXT_fragment_density_map with non-subsampled images (fixed foveation)".into(),
+            ));
         }
         if pass.store_depth && pass.msaa.resolves() {
             return Err(RenderError::Invalid(
@@ -311,6 +319,25 @@ fn render_pass(ctx: &GpuContext, pass: &PassLayout) -> Result<vk::RenderPass, Re
                 .final_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
         );
     }
+    let density_ref = vk::AttachmentReference {
+        attachment: attachments.len() as u32,
+        layout: vk::ImageLayout::FRAGMENT_DENSITY_MAP_OPTIMAL_EXT,
+    };
+    if pass.density_map {
+        // The runtime's map stays in its layout; it is read (never written) when the pass
+        // begins.
+        attachments.push(
+            vk::AttachmentDescription::default()
+                .format(DENSITY_MAP_FORMAT)
+                .samples(vk::SampleCountFlags::TYPE_1)
+                .load_op(vk::AttachmentLoadOp::LOAD)
+                .store_op(vk::AttachmentStoreOp::DONT_CARE)
+                .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
+                .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
+                .initial_layout(vk::ImageLayout::FRAGMENT_DENSITY_MAP_OPTIMAL_EXT)
+                .final_layout(vk::ImageLayout::FRAGMENT_DENSITY_MAP_OPTIMAL_EXT),
+        );
+    }
     let colour_ref = [vk::AttachmentReference {
         attachment: 0,
         layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
@@ -370,12 +397,17 @@ fn render_pass(ctx: &GpuContext, pass: &PassLayout) -> Result<vk::RenderPass, Re
     let mut multiview = vk::RenderPassMultiviewCreateInfo::default()
         .view_masks(&view_masks)
         .correlation_masks(&correlation);
+    let mut density = vk::RenderPassFragmentDensityMapCreateInfoEXT::default()
+        .fragment_density_map_attachment(density_ref);
     let mut info = vk::RenderPassCreateInfo::default()
         .attachments(&attachments)
         .subpasses(&subpass)
         .dependencies(&deps);
     if pass.mode == StereoMode::Multiview {
         info = info.push_next(&mut multiview);
+    }
+    if pass.density_map {
+        info = info.push_next(&mut density);
     }
     // SAFETY: every array `info` points at lives until the call returns.
     ctx.create("vkCreateRenderPass", || unsafe {

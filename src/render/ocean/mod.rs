@@ -89,6 +89,9 @@ pub struct TargetImages<'a> {
     /// 2-layer depth images (`DEPTH_FORMAT`) whose contents are kept for the compositor (an
     /// OpenXR depth swapchain); empty: the renderer uses a transient depth image of its own.
     pub depth: &'a [vk::Image],
+    /// Fixed foveation: one 2-layer fragment density map (`R8G8_UNORM`, made by the runtime,
+    /// `XR_FB_foveation_vulkan`) per colour image, read when its pass begins; empty: none.
+    pub density_maps: &'a [vk::Image],
 }
 
 /// One frame's inputs.
@@ -381,6 +384,13 @@ fn validate(
             config.patch_sizes.len()
         )));
     }
+    if !targets.density_maps.is_empty() && targets.density_maps.len() != targets.images.len() {
+        return Err(RenderError::Invalid(format!(
+            "{} density maps for {} colour images: one each",
+            targets.density_maps.len(),
+            targets.images.len()
+        )));
+    }
     if targets.extent.width == 0 || targets.extent.height == 0 {
         return Err(RenderError::Invalid(format!(
             "target size {}x{}: both sides must be at least 1 pixel",
@@ -404,6 +414,7 @@ fn make_parts(
         colour_format: targets.format,
         msaa: settings.msaa,
         store_depth: !targets.depth.is_empty(),
+        density_map: !targets.density_maps.is_empty(),
     };
     let pipelines = parts.pipelines.insert(Pipelines::new(ctx, pass)?);
     let textures = parts.textures.insert(CascadeTextures::new(ctx, config)?);

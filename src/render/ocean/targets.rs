@@ -10,7 +10,7 @@ use super::TargetImages;
 use crate::render::context::GpuContext;
 use crate::render::error::RenderError;
 use crate::render::memory::{create_view, Image, ImageDesc};
-use crate::render::pipeline::{Pipelines, StereoMode, DEPTH_FORMAT};
+use crate::render::pipeline::{Pipelines, StereoMode, DENSITY_MAP_FORMAT, DEPTH_FORMAT};
 
 /// (first layer, layer count) of each pass's view.
 type LayerRanges = &'static [(u32, u32)];
@@ -158,25 +158,41 @@ impl Targets {
                 self.views.push(v?);
             }
         }
+        // Density maps (fixed foveation): one per colour image, viewed per pass like it.
+        let density_view0 = self.views.len();
+        for &image in t.density_maps {
+            for &(base, count) in layouts {
+                let v = create_view(ctx, image, DENSITY_MAP_FORMAT, colour, base, count, 1);
+                self.views.push(v?);
+            }
+        }
         let depth_view0 = self.colours * self.passes;
         for c in 0..self.colours {
             for d in 0..self.depths {
                 for pass in 0..self.passes {
                     let target = self.views[c * self.passes + pass];
                     let depth = self.views[depth_view0 + d * self.passes + pass];
-                    let with_msaa;
-                    let plain;
-                    let attachments: &[vk::ImageView] = if p.layout_of_pass.resolves_in_pass() {
-                        with_msaa = [self.views[msaa_view0 + pass], depth, target];
-                        &with_msaa
-                    } else if msaa.resolves() {
-                        // Resolved after the pass: the pass draws the multisampled image only.
-                        plain = [self.views[msaa_view0 + pass], depth];
-                        &plain
-                    } else {
-                        plain = [target, depth];
-                        &plain
+                    let mut attachments = [vk::ImageView::null(); 4];
+                    let mut n = 0;
+                    let mut push = |v: vk::ImageView| {
+                        attachments[n] = v;
+                        n += 1;
                     };
+                    if msaa.resolves() {
+                        push(self.views[msaa_view0 + pass]);
+                        push(depth);
+                        if p.layout_of_pass.resolves_in_pass() {
+                            push(target);
+                        }
+                        // Resolved after the pass: the pass draws the multisampled image only.
+                    } else {
+                        push(target);
+                        push(depth);
+                    }
+                    if p.layout_of_pass.density_map {
+                        push(self.views[density_view0 + c * self.passes + pass]);
+                    }
+                    let attachments = &attachments[..n];
                     let info = vk::FramebufferCreateInfo::default()
                         .render_pass(p.render_pass)
                         .attachments(attachments)

@@ -163,6 +163,7 @@ impl DesktopSwapchain {
             format: COLOUR_FORMAT,
             extent: self.extent,
             depth: &[],
+            density_maps: &[],
         }
     }
 

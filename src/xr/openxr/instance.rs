@@ -43,8 +43,15 @@ pub(super) fn create_instance(
     enabled.khr_vulkan_enable2 = true;
     enabled.khr_composition_layer_depth = available.khr_composition_layer_depth;
     enabled.fb_display_refresh_rate = available.fb_display_refresh_rate;
-    enabled.fb_foveation = available.fb_foveation && available.fb_swapchain_update_state;
-    enabled.fb_swapchain_update_state = enabled.fb_foveation;
+    // Fixed foveation on Vulkan needs all four (see `foveation`); any one missing means none.
+    let foveation = available.fb_foveation
+        && available.fb_swapchain_update_state
+        && available.fb_foveation_configuration
+        && available.fb_foveation_vulkan;
+    enabled.fb_foveation = foveation;
+    enabled.fb_swapchain_update_state = foveation;
+    enabled.fb_foveation_configuration = foveation;
+    enabled.fb_foveation_vulkan = foveation;
     enabled.ext_performance_settings = available.ext_performance_settings;
     // LOCAL_FLOOR (core in OpenXR 1.1; this instance is 1.0): the floor under a recentrable
     // origin.

@@ -19,6 +19,7 @@
 
 pub mod error;
 mod exit_signal;
+pub mod foveation;
 mod frame;
 pub mod input;
 mod instance;
@@ -41,6 +42,7 @@ use openxr as xr;
 use self::error::Call;
 pub use self::error::CallError;
 pub use self::exit_signal::{install_exit_signal_handler, EXIT_SIGNAL};
+use self::foveation::FoveationSupport;
 use self::lifecycle::{Action, Lifecycle};
 use self::quest::{Foveation, Headset, PerfLevel, RefreshGovernor};
 use self::quest_setup::QuestSettings;
@@ -239,15 +241,20 @@ impl OpenXr {
             log::warn!("{w}");
         }
         let api_version = choice.version;
+        let level = options.foveation.unwrap_or(defaults.foveation);
+        let mut fov = FoveationSupport::of_runtime(&instance);
         let factory = vulkan::RuntimeVulkan::new(&instance, system);
         let ctx = GpuContext::with_factory(
             &ContextOptions {
                 validation: options.validation,
                 api_version,
+                fragment_density_map: level != Foveation::Off && fov.runtime_complete(),
                 ..ContextOptions::default()
             },
             &factory,
         )?;
+        fov.device = ctx.fragment_density_map;
+        let foveation_plan = fov.plan(level);
         if !ctx.multiview {
             log::warn!("the device has no multiview; rendering both eyes in two passes");
         }
@@ -255,10 +262,14 @@ impl OpenXr {
             extent,
             deck_height: options.deck_height,
             submit_depth: options.submit_depth,
+            foveated: foveation_plan.is_ok(),
         };
         let (mut session, facts) = Session::new(&instance, &ctx, system, &settings)?;
+        if let Err(why) = &foveation_plan {
+            log::info!("{why}");
+        }
         let quest = QuestSettings {
-            foveation: options.foveation.unwrap_or(defaults.foveation),
+            foveation: level,
             max_refresh_rate: options
                 .max_refresh_rate
                 .unwrap_or(defaults.max_refresh_rate),
@@ -411,6 +422,7 @@ impl FrameLoop for OpenXr {
             format: s.colour.format,
             extent: self.extent,
             depth: s.depth.as_ref().map_or(&[], |d| &d.images),
+            density_maps: &s.colour.density_maps,
         }
     }
 

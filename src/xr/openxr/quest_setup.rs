@@ -9,6 +9,7 @@
 use openxr as xr;
 
 use super::error::check;
+use super::foveation;
 use super::quest::{Foveation, PerfLevel, RefreshGovernor};
 use super::session::Session;
 
@@ -35,42 +36,18 @@ pub(super) fn start(
     refresh_rate(instance, &session.session, settings.max_refresh_rate)
 }
 
-/// Fixed foveation on the colour swapchain, when the runtime has both extensions.
+/// The foveation profile on the colour swapchain, when it was created with density maps
+/// (every piece there: see `foveation`).
 fn foveation(
     instance: &xr::Instance,
     session: &Session,
     level: Foveation,
 ) -> Option<xr::FoveationProfileFB> {
-    let exts = instance.exts();
-    let update = exts.fb_swapchain_update_state.as_ref()?;
-    exts.fb_foveation.as_ref()?;
-    let profile = session
-        .session
-        .create_foveation_profile(Some(xr::FoveationLevelProfile {
-            level: level.level(),
-            vertical_offset: 0.0,
-            dynamic: xr::FoveationDynamicFB::DISABLED,
-        }))
-        .map_err(|e| log::warn!("xrCreateFoveationProfileFB: {e:?} ({e})"))
-        .ok()?;
-    let state = xr::sys::SwapchainStateFoveationFB {
-        ty: xr::sys::SwapchainStateFoveationFB::TYPE,
-        next: std::ptr::null_mut(),
-        flags: xr::sys::SwapchainStateFoveationFlagsFB::EMPTY,
-        profile: profile.as_raw(),
-    };
-    // SAFETY: a valid swapchain and a state struct of the extension that outlives the call.
-    let r = unsafe {
-        (update.update_swapchain)(
-            session.colour.handle.as_raw(),
-            &state as *const _ as *const xr::sys::SwapchainStateBaseHeaderFB,
-        )
-    };
-    if let Err(r) = check(r) {
-        log::warn!("xrUpdateSwapchainFB (foveation): {r:?} ({r})");
+    if session.colour.density_maps.is_empty() {
         return None;
     }
-    log::info!("fixed foveation: {level:?}");
+    let profile = foveation::apply_profile(instance, &session.session, &session.colour, level)?;
+    log::info!("fixed foveation: {level:?} (fragment density maps, profile applied)");
     Some(profile)
 }
 

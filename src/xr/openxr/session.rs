@@ -7,6 +7,7 @@ use ash::vk;
 use openxr as xr;
 
 use super::error::Call;
+use super::foveation;
 use super::input::Input;
 use super::swapchain::{self, ArraySwapchain};
 use super::{backend, LOCAL_EYE_HEIGHT};
@@ -49,6 +50,9 @@ pub(super) struct SessionSettings {
     pub deck_height: f32,
     /// Submit depth to the compositor (a depth swapchain stored every frame).
     pub submit_depth: bool,
+    /// Create the colour swapchain with fragment density maps (every foveation piece is
+    /// there: `foveation::FoveationSupport::plan`).
+    pub foveated: bool,
 }
 
 /// The reference space to stand in, best first: LOCAL_FLOOR (a floor-level origin the user can
@@ -112,8 +116,7 @@ impl Session {
             space_name,
             origin_height,
         };
-        let extent = settings.extent;
-        let (colour, depth) = swapchains(instance, &session, extent, settings.submit_depth)?;
+        let (colour, depth) = swapchains(instance, &session, settings)?;
         let input = Input::new(instance).map_err(backend)?;
         input.attach(&session).map_err(backend)?;
         Ok((
@@ -137,22 +140,27 @@ impl Session {
 fn swapchains(
     instance: &xr::Instance,
     session: &xr::Session<xr::Vulkan>,
-    extent: vk::Extent2D,
-    submit_depth: bool,
+    settings: &SessionSettings,
 ) -> Result<(ArraySwapchain, Option<ArraySwapchain>), XrError> {
+    let (extent, submit_depth) = (settings.extent, settings.submit_depth);
     let formats = session
         .enumerate_swapchain_formats()
         .call("xrEnumerateSwapchainFormats")?;
     let formats: Vec<i64> = formats.iter().map(|&f| f as i64).collect();
     let colour_format = swapchain::choose_colour_format(&formats).map_err(backend)?;
-    let colour = ArraySwapchain::new(
-        session,
-        colour_format,
-        extent,
-        // Transfer destination too: the two-pass fallback with MSAA resolves into it.
-        xr::SwapchainUsageFlags::COLOR_ATTACHMENT | xr::SwapchainUsageFlags::TRANSFER_DST,
-    )
-    .map_err(backend)?;
+    // Transfer destination too: the two-pass fallback with MSAA resolves into it.
+    let usage = xr::SwapchainUsageFlags::COLOR_ATTACHMENT | xr::SwapchainUsageFlags::TRANSFER_DST;
+    let foveated = if settings.foveated {
+        foveation::create_foveated_swapchain(session, colour_format, extent, usage)
+            .map_err(|e| log::warn!("fixed foveation off: {e}"))
+            .ok()
+    } else {
+        None
+    };
+    let colour = match foveated {
+        Some(c) => c,
+        None => ArraySwapchain::new(session, colour_format, extent, usage).map_err(backend)?,
+    };
     let takes_depth =
         instance.exts().khr_composition_layer_depth.is_some() && swapchain::offers_depth(&formats);
     let depth = if submit_depth && takes_depth {

@@ -78,6 +78,8 @@ pub struct ArraySwapchain {
     pub images: Vec<vk::Image>,
     /// Their format.
     pub format: vk::Format,
+    /// One fragment density map per image (fixed foveation); empty without.
+    pub density_maps: Vec<vk::Image>,
 }
 
 impl ArraySwapchain {
@@ -116,6 +118,7 @@ impl ArraySwapchain {
             handle,
             images,
             format,
+            density_maps: Vec::new(),
         })
     }
 
