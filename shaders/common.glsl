@@ -21,6 +21,10 @@ layout(set = 0, binding = 0, std140) uniform Globals {
     // x: cascade count, y: FFT grid side N, z: fog distance (m), w: 1 = paint the sky magenta
     // (tests: any magenta below the horizon is a crack).
     vec4 params;
+    // Specular anti-aliasing. x: slope variance of the waves too short for any cascade;
+    // y: 1 = on; z: Toksvig variance of level-0 normals (the material's); w: GGX alpha^2 of
+    // level-0 smoothness.
+    vec4 specular_aa;
 } g;
 
 const float PI = 3.14159265;

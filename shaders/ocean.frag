@@ -2,6 +2,17 @@
 // Water shading: normals and foam from the cascades' RGBA8 mip chains (eq. 50-53), Schlick
 // Fresnel (IOR 1.33) between the reflected sky and the water body, a GGX sun highlight whose
 // roughness comes from the mips' smoothness, persistent foam, and fog to the horizon colour.
+//
+// Specular anti-aliasing (g.specular_aa.y = 1). With no temporal filter in a headset, the far
+// sea must not sparkle:
+// - where the finest cascade is minified (its texels smaller than a pixel), the pixel is
+//   shaded at four sub-pixel positions (a rotated grid) from mips chosen for a third of the
+//   pixel's extent, and the colours averaged: supersampling only where shading aliases;
+// - the slope variance a shading sample still cannot show widens the GGX lobe: filtered out of
+//   the normal maps (Toksvig: an averaged normal is shorter; the variance (1 - |n|)/|n| beyond
+//   the level-0, material shortening), below the finest cascade (Bruneton, Neyret & Holzschuch
+//   2010: integrated from the spectrum on the CPU), and the normal's change across the
+//   footprint (Tokuyoshi & Kaplanyan 2019, clamped).
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 
@@ -13,35 +24,68 @@ layout(location = 2) flat in vec3 v_eye;
 layout(location = 3) flat in uint v_sky;
 layout(location = 0) out vec4 o_colour;
 
-void main() {
-    if (v_sky != 0u) {
-        vec3 d = normalize(v_world);
-        vec3 c = d.y >= 0.0 ? sky(d) : fog_colour(d);
-        o_colour = vec4(g.params.w > 0.5 ? vec3(1.0, 0.0, 1.0) : c, 1.0);
-        return;
-    }
-    vec3 view = v_eye - v_world;
-    float dist = length(view);
-    vec3 v = view / max(dist, 1e-4);
+// Smallest highlight roughness (`render::ocean::pass::MIN_ROUGHNESS`).
+const float MIN_ROUGHNESS = 0.06;
+// Screen-space filter: variance of the pixel footprint and the largest added alpha^2
+// (Tokuyoshi & Kaplanyan 2019).
+const float PIXEL_VARIANCE = 0.25;
+const float MAX_KERNEL_ALPHA2 = 0.18;
+// Sub-pixel positions of the supersampled shading (rotated grid, in pixels).
+const vec2 SUBSAMPLES[4] = vec2[4](
+    vec2(-0.125, -0.375), vec2(0.375, -0.125), vec2(0.125, 0.375), vec2(-0.375, 0.125));
+// Mip level of the finest cascade above which a pixel is supersampled.
+const float SUPERSAMPLE_FROM_LOD = 0.5;
 
-    // Sum the cascades' slopes (n.xz / n.y), combine foam as independent coverage, keep the
-    // roughest smoothness.
+// The averaged normal's length a smoothness encodes: eq. 53 inverted.
+float normal_length(float smoothness) {
+    float r = (1.0 - smoothness) * (1.0 - smoothness);
+    float t = (-0.85 + sqrt(0.7225 + 0.6 * (1.0 - r))) / 0.3;
+    return (clamp(t, 0.0, 1.0) + 2.0) / 3.0;
+}
+
+// The water at one shading position.
+struct Water {
+    vec3 n;            // shading normal
+    float foam;        // foam coverage
+    float smoothness;  // roughest cascade's smoothness
+    float filtered;    // slope variance filtered out of the normal maps (Toksvig)
+};
+
+// Sums the cascades' slopes (n.xz / n.y), combines foam as independent coverage, keeps the
+// roughest smoothness. `dx`, `dy`: the footprint's extent in world xz (texture gradients);
+// `implicit`: take the hardware's own derivatives (the single-sampled path, bit-for-bit the
+// shading without anti-aliasing).
+Water water_at(vec2 xz, vec2 dx, vec2 dy, bool implicit) {
+    Water w;
     vec2 slope = vec2(0.0);
     float clear = 1.0;
-    float smoothness = 1.0;
+    w.smoothness = 1.0;
+    w.filtered = 0.0;
     int cascades = int(g.params.x);
     float half_texel = 0.5 / g.params.y;
     for (int c = 0; c < cascades; ++c) {
-        vec4 t = texture(u_normal_foam, vec3(v_xz / g.patch_size[c] + half_texel, float(c)));
+        vec2 uv = xz / g.patch_size[c] + half_texel;
+        vec4 t = implicit
+            ? texture(u_normal_foam, vec3(uv, float(c)))
+            : textureGrad(u_normal_foam, vec3(uv, float(c)), dx / g.patch_size[c],
+                          dy / g.patch_size[c]);
         vec2 nxz = t.rg * 2.0 - 1.0;
         float ny = sqrt(max(1.0 - dot(nxz, nxz), 0.05));
         slope += nxz / ny;
         clear *= 1.0 - t.b;
-        smoothness = min(smoothness, t.a);
+        w.smoothness = min(w.smoothness, t.a);
+        float len = normal_length(t.a);
+        w.filtered += max((1.0 - len) / len - g.specular_aa.z, 0.0);
     }
-    vec3 n = normalize(vec3(slope.x, 1.0, slope.y));
-    float foam = 1.0 - clear;
+    w.n = normalize(vec3(slope.x, 1.0, slope.y));
+    w.foam = 1.0 - clear;
+    return w;
+}
 
+// Radiance leaving the water toward the eye along `v`; `unshown`: slope variance the normal
+// does not show (specular anti-aliasing), < 0 for the plain shading.
+vec3 shade(Water w, vec3 v, float unshown) {
+    vec3 n = w.n;
     float ndotv = max(dot(n, v), 1e-3);
     const float f0 = 0.02; // ((1 - 1.33) / (1 + 1.33))^2
     float fresnel = f0 + (1.0 - f0) * pow(1.0 - ndotv, 5.0);
@@ -53,8 +97,12 @@ void main() {
     vec3 colour = mix(body, reflected, fresnel);
 
     // GGX highlight; smoothness 1 is a mirror, clamped so the sun stays a few pixels wide.
-    float rough = max(1.0 - smoothness, 0.06);
+    float rough = max(1.0 - w.smoothness, MIN_ROUGHNESS);
     float a2 = rough * rough * rough * rough;
+    if (unshown >= 0.0) {
+        // The level-0 look, plus the slope variance this sample cannot show.
+        a2 = min(g.specular_aa.w + unshown, 1.0);
+    }
     vec3 hv = normalize(l + v);
     float ndoth = max(dot(n, hv), 0.0);
     float ndotl = max(dot(n, l), 0.0);
@@ -62,7 +110,57 @@ void main() {
     float ggx = a2 / (PI * dd * dd);
     colour += vec3(1.0, 0.9, 0.75) * g.sun.w * ggx * fresnel * ndotl * 0.25;
 
-    colour = mix(colour, vec3(0.85, 0.9, 0.92) * (0.4 + 0.6 * max(l.y, 0.0)), foam * 0.9);
+    return mix(colour, vec3(0.85, 0.9, 0.92) * (0.4 + 0.6 * max(l.y, 0.0)), w.foam * 0.9);
+}
+
+void main() {
+    if (v_sky != 0u) {
+        vec3 d = normalize(v_world);
+        vec3 c = d.y >= 0.0 ? sky(d) : fog_colour(d);
+        o_colour = vec4(g.params.w > 0.5 ? vec3(1.0, 0.0, 1.0) : c, 1.0);
+        return;
+    }
+    vec3 view = v_eye - v_world;
+    float dist = length(view);
+    vec3 v = view / max(dist, 1e-4);
+    vec2 dx = dFdx(v_xz);
+    vec2 dy = dFdy(v_xz);
+
+    // Everything that takes implicit derivatives happens here, in uniform control flow.
+    Water w = water_at(v_xz, dx, dy, true);
+    vec3 dndx = dFdx(w.n);
+    vec3 dndy = dFdy(w.n);
+    int cascades = int(g.params.x);
+    float half_texel = 0.5 / g.params.y;
+    vec2 finest_uv = v_xz / g.patch_size[cascades - 1] + half_texel;
+    float lod = textureQueryLod(u_normal_foam, finest_uv).x;
+
+    vec3 colour;
+    if (g.specular_aa.y < 0.5) {
+        colour = shade(w, v, -1.0);
+    } else {
+        float kernel = min(2.0 * PIXEL_VARIANCE * (dot(dndx, dndx) + dot(dndy, dndy)),
+                           MAX_KERNEL_ALPHA2);
+        float tail = clamp(lod, 0.0, 1.0) * g.specular_aa.x;
+        if (lod > SUPERSAMPLE_FROM_LOD) {
+            // Four shading positions, each filtering a third of the pixel's extent (mips
+            // log2(3) levels finer), their variance terms scaled to that footprint: the
+            // normal's change across it is a ninth of that across the pixel, and the waves
+            // below the finest cascade are unresolved once its texels are smaller than it.
+            vec2 hx = dx / 3.0;
+            vec2 hy = dy / 3.0;
+            float sub_tail = clamp(lod - log2(3.0), 0.0, 1.0) * g.specular_aa.x;
+            colour = vec3(0.0);
+            for (int i = 0; i < 4; ++i) {
+                vec2 xz = v_xz + SUBSAMPLES[i].x * dx + SUBSAMPLES[i].y * dy;
+                Water s = water_at(xz, hx, hy, false);
+                colour += shade(s, v, s.filtered + sub_tail + kernel / 9.0);
+            }
+            colour *= 0.25;
+        } else {
+            colour = shade(w, v, w.filtered + tail + kernel);
+        }
+    }
 
     float fog = 1.0 - exp(-dist / g.params.z);
     colour = mix(colour, fog_colour(-v), fog);

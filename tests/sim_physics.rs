@@ -94,6 +94,7 @@ fn single_mode(
         s,
         harmonic: harm,
         expected_variance: 2.0 * (amplitude as f64).powi(2),
+        slopes: Default::default(),
     }
 }
 

@@ -142,6 +142,19 @@ pub struct ViewArgs {
     /// Multisample anti-aliasing: samples per pixel (1, 2 or 4).
     #[arg(long, default_value_t = 4)]
     pub msaa: u32,
+    /// Specular anti-aliasing: slopes a pixel cannot show widen the sun's highlight instead of
+    /// sparkling.
+    #[arg(long, value_enum, default_value_t = OnOff::On)]
+    pub specular_aa: OnOff,
+}
+
+/// A switch on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum OnOff {
+    /// On.
+    On,
+    /// Off.
+    Off,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -171,6 +184,7 @@ impl ViewArgs {
                     self.msaa as f64,
                     "1, 2 or 4 samples per pixel",
                 ))?,
+                specular_aa: self.specular_aa == OnOff::On,
                 ..RendererSettings::default()
             },
             capture,

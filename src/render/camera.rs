@@ -51,6 +51,10 @@ pub struct Globals {
     pub fade_end: [f32; 4],
     /// Cascade count, grid N, fog distance (m), sky marker flag.
     pub params: [f32; 4],
+    /// Specular anti-aliasing: slope variance of the unresolved waves, on (1) or off (0), the
+    /// Toksvig variance of level-0 normals (the material's, not filtering), and the GGX α² of
+    /// level-0 smoothness.
+    pub specular_aa: [f32; 4],
 }
 
 impl Globals {

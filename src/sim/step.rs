@@ -17,6 +17,13 @@ use crate::sim::surface::{self, CascadeSurface, FloatCopies, SurfaceParams};
 pub struct Surfaces {
     /// Per-cascade fields.
     pub cascades: Vec<CascadeSurface>,
+    /// Slope variance (mean |∇h|²) of the waves too short for any cascade's grid: BRDF
+    /// roughness for the renderer's specular anti-aliasing (see
+    /// [`crate::sim::spectrum::SlopeVariance`]).
+    pub unresolved_slope_variance: f32,
+    /// Length of the level-0 normals (eq. 49 of the material roughness): the renderer's
+    /// specular anti-aliasing counts only the shortening beyond it, which is filtering.
+    pub base_normal_length: f32,
 }
 
 impl Surfaces {
@@ -38,6 +45,8 @@ impl Surfaces {
                 .iter()
                 .map(|&l| CascadeSurface::new(config.grid, l, base))
                 .collect(),
+            unresolved_slope_variance: 0.0,
+            base_normal_length: 1.0,
         }
     }
 
@@ -215,6 +224,12 @@ impl SimCore {
             dt,
         };
         let phase = LoopPhase::new(t, waves.loop_period);
+        out.unresolved_slope_variance = self
+            .cascades
+            .iter()
+            .map(|c| c.spectrum.slopes.unresolved)
+            .sum::<f64>() as f32;
+        out.base_normal_length = crate::sim::pack::normal_length(waves.roughness);
         let mut times = StageTimes::default();
         for (c, surface) in self.cascades.iter_mut().zip(&mut out.cascades) {
             let t0 = Instant::now();

@@ -51,6 +51,10 @@ pub struct RendererSettings {
     pub stereo: StereoMode,
     /// Samples per pixel (edges anti-aliased by the resolve).
     pub msaa: Msaa,
+    /// Specular anti-aliasing: the slope variance a pixel cannot show (unresolved waves,
+    /// filtered normal maps, sub-pixel normal variation) widens the sun's highlight instead of
+    /// sparkling.
+    pub specular_aa: bool,
     /// Frames the CPU may record ahead of the GPU (≥ 2); also the staging ring's slot count.
     pub frames_in_flight: usize,
     /// Unit direction towards the sun.
@@ -68,6 +72,7 @@ impl Default for RendererSettings {
         Self {
             stereo: StereoMode::Multiview,
             msaa: Msaa::X4,
+            specular_aa: true,
             frames_in_flight: 2,
             sun_direction: Vec3::new(0.45, 0.3, -0.84).normalize(),
             sun_intensity: 8.0,

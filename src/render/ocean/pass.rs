@@ -15,7 +15,11 @@ use crate::lod::{LodSettings, OceanLod};
 use crate::render::barrier::{self, Access, ImageBarrier};
 use crate::render::camera::Globals;
 use crate::render::pipeline::{Pipelines, Push};
-use crate::sim::OceanConfig;
+use crate::sim::{pack, OceanConfig};
+
+/// The smallest roughness of the sun's highlight (a mirror-like sea keeps the sun a few pixels
+/// wide); mirrored in `shaders/ocean.frag`.
+pub const MIN_ROUGHNESS: f32 = 0.06;
 
 /// What the pass's uniforms take from the configuration, fixed at creation.
 #[derive(Clone, Copy, Debug)]
@@ -61,6 +65,14 @@ impl PassConstants {
             self.grid as f32,
             settings.fog_distance,
             if settings.sky_marker { 1.0 } else { 0.0 },
+        ];
+        let len0 = input.surfaces.base_normal_length;
+        let rough0 = (1.0 - pack::smoothness(len0)).max(MIN_ROUGHNESS);
+        g.specular_aa = [
+            input.surfaces.unresolved_slope_variance,
+            if settings.specular_aa { 1.0 } else { 0.0 },
+            (1.0 - len0) / len0,
+            rough0.powi(4),
         ];
         g
     }

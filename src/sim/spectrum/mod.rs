@@ -85,6 +85,13 @@ pub fn mode_power(waves: &WaveParams, c: &CascadeSpec, col: usize, row: usize) -
     if k == 0.0 || !c.band.contains(k) {
         return 0.0;
     }
+    power_at(waves, c, kx, kz, k)
+}
+
+/// Expected power E|h₀(k)|² (m²) a mode of cascade `c` at wave vector (`kx`, `kz`) of length
+/// `k` (positive) would have on that cascade's grid (band not checked): [`mode_power`]'s
+/// physics, also for wave numbers no grid holds (the unresolved tail).
+pub fn power_at(waves: &WaveParams, c: &CascadeSpec, kx: f64, kz: f64, k: f64) -> f64 {
     let dir = (waves.wind_direction_deg as f64).to_radians();
     let cos_theta = (kx * dir.cos() + kz * dir.sin()) / k;
     let s = phillips::spreading_exponent(waves.alignment);
@@ -110,6 +117,68 @@ pub fn mode_power(waves: &WaveParams, c: &CascadeSpec, col: usize, row: usize) -
     power * against * suppress
 }
 
+/// Slope variances (mean of |∇h|², both directions) of a cascade's waves.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SlopeVariance {
+    /// Of the waves on the cascade's grid: Σ k²·E|h̃(k)|².
+    pub resolved: f64,
+    /// Of the finest cascade's waves too short for its grid (|k| above its Nyquist wave
+    /// number πN/L, up to the gravity-capillary limit): what no texel can show, so it becomes
+    /// BRDF roughness (Bruneton, Neyret & Holzschuch 2010). Zero for coarser cascades, whose
+    /// band ends inside their grid.
+    pub unresolved: f64,
+}
+
+/// Wave number (rad/m) of the gravity-capillary minimum of the phase speed (λ ≈ 1.7 cm):
+/// shorter waves are capillary ripples whose slopes the wind spectra do not describe.
+pub const CAPILLARY_K: f64 = 370.0;
+
+/// The slope variances of cascade `c` (see [`SlopeVariance`]). The tail is integrated on a
+/// polar grid, log-spaced in |k|: it runs when the waves change, never per frame.
+pub fn slope_variance(waves: &WaveParams, c: &CascadeSpec) -> SlopeVariance {
+    let n = c.grid.n();
+    let resolved = (0..n * n)
+        .map(|i| {
+            let (col, row) = (i % n, i / n);
+            let (kx, kz) = wave_vector(col, row, c.grid, c.patch);
+            // Both h̃(k) and h̃(−k) carry E|h₀|²: 2·P per mode, times k².
+            2.0 * mode_power(waves, c, col, row) * (kx * kx + kz * kz)
+        })
+        .sum();
+    let nyquist = std::f64::consts::PI * n as f64 / c.patch as f64;
+    let unresolved = if c.band.hi.is_infinite() && nyquist < CAPILLARY_K {
+        const RINGS: usize = 160;
+        const SPOKES: usize = 180;
+        let dk_grid = std::f64::consts::TAU / c.patch as f64;
+        let ln_span = (CAPILLARY_K / nyquist).ln();
+        let dtheta = std::f64::consts::TAU / SPOKES as f64;
+        let mut sum = 0.0;
+        for i in 0..RINGS {
+            let u0 = i as f64 / RINGS as f64;
+            let u1 = (i + 1) as f64 / RINGS as f64;
+            let (k0, k1) = (
+                nyquist * (u0 * ln_span).exp(),
+                nyquist * (u1 * ln_span).exp(),
+            );
+            let k = 0.5 * (k0 + k1);
+            for j in 0..SPOKES {
+                let th = (j as f64 + 0.5) * dtheta;
+                let (kx, kz) = (k * th.cos(), k * th.sin());
+                // A polar cell of area k·Δk·Δθ holds that many grid modes of spacing 2π/L.
+                let modes = k * (k1 - k0) * dtheta / (dk_grid * dk_grid);
+                sum += 2.0 * power_at(waves, c, kx, kz, k) * k * k * modes;
+            }
+        }
+        sum
+    } else {
+        0.0
+    };
+    SlopeVariance {
+        resolved,
+        unresolved,
+    }
+}
+
 /// The packed, pre-transformed spectrum S' = (a+c, b+d, b−d, c−a) of eq. 22, with
 /// (a, b) = h₀(k) and (c, d) = h₀*(−k), so that h̃(k, t) = S'_xy·cos φ + S'_zw·sin φ (eq. 24),
 /// plus the loop harmonic of each mode (eq. 16). Planar (one buffer per component) so the
@@ -123,6 +192,8 @@ pub struct PackedSpectrum {
     pub harmonic: Vec<u32>,
     /// Σ_k E|h̃(k, t)|²: the expected variance of the height field (m²), for Parseval checks.
     pub expected_variance: f64,
+    /// Slope variances: on the grid, and the unresolved tail (finest cascade only).
+    pub slopes: SlopeVariance,
 }
 
 impl PackedSpectrum {
@@ -135,6 +206,7 @@ impl PackedSpectrum {
             s: std::array::from_fn(|_| AlignedBuf::zeros(c.grid.texels())),
             harmonic: vec![0; c.grid.texels()],
             expected_variance: 0.0,
+            slopes: SlopeVariance::default(),
         };
         let h0 = |col: usize, row: usize| -> (f64, f64) {
             let p = mode_power(waves, c, col, row);
@@ -178,6 +250,7 @@ impl PackedSpectrum {
             * (0..n * n)
                 .map(|i| mode_power(waves, c, i % n, i / n))
                 .sum::<f64>();
+        out.slopes = slope_variance(waves, c);
         out
     }
 }
