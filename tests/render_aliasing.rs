@@ -138,11 +138,11 @@ struct Errors {
 fn errors(f: &Frame, reference: &[Vec<f32>; 2]) -> Errors {
     let mut far = 0.0;
     let mut near = 0.0;
-    for eye in 0..2 {
+    for (eye, reference) in reference.iter().enumerate() {
         let lum = luminance(f, eye, 1);
         let (far_rows, near_rows) = bands(horizon_row(f, eye), f.height);
-        far += rmse(&lum, &reference[eye], f.width, far_rows).powi(2);
-        near += rmse(&lum, &reference[eye], f.width, near_rows).powi(2);
+        far += rmse(&lum, reference, f.width, far_rows).powi(2);
+        near += rmse(&lum, reference, f.width, near_rows).powi(2);
     }
     Errors {
         far: (far / 2.0).sqrt(),
