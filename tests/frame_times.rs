@@ -16,6 +16,8 @@
 //!   ≤ [`SIZE_TIME`] × 1024 m;
 //! - a ceiling on the frame time that scales with a calibration measured in the same rounds
 //!   (a fixed scalar FFT workload: [`CALIBRATION_CEILING`]), not with a file measured elsewhere;
+//! - what anti-aliasing costs on lavapipe, reported with generous ceilings ([`MSAA_COST`],
+//!   [`SPECULAR_AA_COST`]): a CPU rasterizer shades and stores every sample, a tiler does not;
 //! - the render thread's wait for simulation results has p95 < 0.5 ms when the sim step is
 //!   shorter than the frame.
 
@@ -30,7 +32,7 @@ use vr_ocean::app::{FrameTimes, NoHooks, RunReport, Timing};
 use vr_ocean::lod::{
     FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset, StereoFrustum,
 };
-use vr_ocean::render::StereoMode;
+use vr_ocean::render::{Msaa, StereoMode};
 use vr_ocean::sim::fft::{Backend, Fft2d};
 use vr_ocean::sim::{GridSize, OceanConfig, SplitField};
 use vr_ocean::xr::desktop::{eye_views, CameraPath};
@@ -43,6 +45,11 @@ const MULTIVIEW_TIME: f64 = 1.10;
 /// Frame time at 8192 m over 1024 m (measured 0.84-1.01 on Zen 3/Zen 5, 1.31 on Zen 1, where
 /// lavapipe's vertex work weighs more: AVX2 runs as two 128-bit halves there).
 const SIZE_TIME: f64 = 1.6;
+/// What MSAA 4 may cost over MSAA 1 on lavapipe (a CPU rasterizer shades and stores every
+/// sample in memory; a tiler resolves on chip): a generous ceiling, the ratio is reported.
+const MSAA_COST: f64 = 4.0;
+/// What specular anti-aliasing (supersampled shading of minified water) may cost: generous.
+const SPECULAR_AA_COST: f64 = 3.0;
 /// Multiview-1024 frame time in units of the calibration workload (measured 7.6-11.7 per round
 /// on Zen 3): 3× that, room for machines whose lavapipe/scalar balance differs, while a
 /// regression that makes the frame 3× slower fails.
@@ -52,6 +59,9 @@ struct Scenario {
     name: &'static str,
     stereo: StereoMode,
     size: f32,
+    msaa: Msaa,
+    specular_aa: bool,
+    attachment_bytes: u64,
     times: FrameTimes,
     draws: u32,
     triangles: f64,
@@ -59,8 +69,8 @@ struct Scenario {
     round_p50: Vec<f64>,
 }
 
-const ROUNDS: usize = 6;
-const FRAMES: u64 = 36;
+const ROUNDS: usize = 4;
+const FRAMES: u64 = 30;
 const WARMUP: u64 = 6;
 
 fn options(s: &Scenario) -> vr_ocean::app::RunOptions {
@@ -68,6 +78,8 @@ fn options(s: &Scenario) -> vr_ocean::app::RunOptions {
     o.ocean = OceanConfig::default_cascades(128).unwrap();
     o.threads = 1;
     o.lod = LodSettings::new(QualityPreset::Medium, OceanSize::new(s.size).unwrap());
+    o.renderer.msaa = s.msaa;
+    o.renderer.specular_aa = s.specular_aa;
     o.warmup = WARMUP;
     o
 }
@@ -169,15 +181,47 @@ fn cpu_model() -> String {
 
 #[test]
 fn frame_times_on_lavapipe() {
+    // Geometry and stereo are compared without anti-aliasing (MSAA 1, no specular AA), so
+    // those ratios do not depend on how a machine rasterizes samples; the last two add MSAA 4,
+    // then specular AA (the defaults), for what anti-aliasing costs.
     let mut scenarios = [
-        ("multiview-1024", StereoMode::Multiview, 1024.0),
-        ("two-pass-1024", StereoMode::TwoPass, 1024.0),
-        ("multiview-8192", StereoMode::Multiview, 8192.0),
+        (
+            "multiview-1024",
+            StereoMode::Multiview,
+            1024.0,
+            Msaa::X1,
+            false,
+        ),
+        (
+            "two-pass-1024",
+            StereoMode::TwoPass,
+            1024.0,
+            Msaa::X1,
+            false,
+        ),
+        (
+            "multiview-8192",
+            StereoMode::Multiview,
+            8192.0,
+            Msaa::X1,
+            false,
+        ),
+        ("msaa4-1024", StereoMode::Multiview, 1024.0, Msaa::X4, false),
+        (
+            "defaults-1024",
+            StereoMode::Multiview,
+            1024.0,
+            Msaa::X4,
+            true,
+        ),
     ]
-    .map(|(name, stereo, size)| Scenario {
+    .map(|(name, stereo, size, msaa, specular_aa)| Scenario {
         name,
         stereo,
         size,
+        msaa,
+        specular_aa,
+        attachment_bytes: 0,
         times: FrameTimes::with_capacity(ROUNDS * FRAMES as usize),
         draws: 0,
         triangles: 0.0,
@@ -188,9 +232,13 @@ fn frame_times_on_lavapipe() {
     for round in 0..ROUNDS {
         // Alternate the order (ABC, CBA, ...) so a drift within a round cancels out; the
         // calibration runs at the round's middle.
-        let order: [usize; 3] = if round % 2 == 0 { [0, 1, 2] } else { [2, 1, 0] };
+        let order: [usize; 5] = if round % 2 == 0 {
+            [0, 1, 2, 3, 4]
+        } else {
+            [4, 3, 2, 1, 0]
+        };
         for (k, i) in order.into_iter().enumerate() {
-            if k == 1 {
+            if k == 2 {
                 round_calibration.push(calibration.measure());
             }
             let s = &mut scenarios[i];
@@ -199,6 +247,7 @@ fn frame_times_on_lavapipe() {
             s.times.merge(&r.times);
             s.draws = s.draws.max(r.max_draws);
             s.triangles = r.mean_triangles;
+            s.attachment_bytes = r.attachment_bytes;
             s.round_p50
                 .push(r.times.percentiles(Timing::FrameTotal).p50);
         }
@@ -226,10 +275,13 @@ fn frame_times_on_lavapipe() {
             s.name, s.draws, s.triangles
         );
     }
-    let [mv, tp, big] = &scenarios;
+    let [mv, tp, big, msaa4, defaults] = &scenarios;
     let (r_stereo, v_stereo) = median_ratio(&mv.round_p50, &tp.round_p50);
     let (r_size, v_size) = median_ratio(&big.round_p50, &mv.round_p50);
     let (r_cal, v_cal) = median_ratio(&mv.round_p50, &round_calibration);
+    let (r_msaa, v_msaa) = median_ratio(&msaa4.round_p50, &mv.round_p50);
+    let (r_spec, v_spec) = median_ratio(&defaults.round_p50, &msaa4.round_p50);
+    let gpu_p50 = |s: &Scenario| s.times.percentiles(Timing::GpuPass).p50;
     let sweep: Vec<(f32, f64)> = [1024.0, 2048.0, 4096.0, 8192.0]
         .into_iter()
         .map(|size| (size, lod_triangles(size)))
@@ -264,6 +316,22 @@ fn frame_times_on_lavapipe() {
         table,
         "multiview-1024 frame / calibration: {r_cal:.1} (gate <= {CALIBRATION_CEILING}), per round {v_cal:.1?}"
     );
+    let _ = writeln!(
+        table,
+        "cost of MSAA 4 over 1 (frame time): {r_msaa:.3} (gate <= {MSAA_COST}), per round \
+         {v_msaa:.3?}; GPU pass p50 {:.1} vs {:.1} ms; transient attachments {:.2} vs {:.2} MiB",
+        gpu_p50(msaa4),
+        gpu_p50(mv),
+        msaa4.attachment_bytes as f64 / 1048576.0,
+        mv.attachment_bytes as f64 / 1048576.0
+    );
+    let _ = writeln!(
+        table,
+        "cost of specular AA (frame time): {r_spec:.3} (gate <= {SPECULAR_AA_COST}), per round \
+         {v_spec:.3?}; GPU pass p50 {:.1} vs {:.1} ms",
+        gpu_p50(defaults),
+        gpu_p50(msaa4)
+    );
     println!("{table}");
 
     let json = serde_json::json!({
@@ -275,11 +343,14 @@ fn frame_times_on_lavapipe() {
             "multiview_over_two_pass": r_stereo,
             "size_8192_over_1024": r_size,
             "frame_over_calibration": r_cal,
+            "msaa4_over_msaa1": r_msaa,
+            "specular_aa_on_over_off": r_spec,
         },
         "scenarios": scenarios.iter().map(|s| serde_json::json!({
             "name": s.name,
             "draws": s.draws,
             "mean_triangles": s.triangles,
+            "attachment_bytes": s.attachment_bytes,
             "timings_ms": &s.times,
         })).collect::<Vec<_>>(),
     });
@@ -307,6 +378,14 @@ fn frame_times_on_lavapipe() {
     assert!(
         r_size <= SIZE_TIME,
         "frame time at 8192 m is {r_size:.3}x that at 1024 m"
+    );
+    assert!(
+        r_msaa <= MSAA_COST,
+        "MSAA 4 costs {r_msaa:.3}x the frame time of MSAA 1"
+    );
+    assert!(
+        r_spec <= SPECULAR_AA_COST,
+        "specular AA costs {r_spec:.3}x the frame time without it"
     );
     assert!(
         r_cal <= CALIBRATION_CEILING,

@@ -104,7 +104,7 @@ fn ocean_runs_through_monado_focused_and_exits_cleanly() {
     // The real renderer: multiview into the runtime's sRGB swapchain; depth stays transient
     // (nothing here uses submitted depth); LOCAL_FLOOR preferred (Monado has XR_EXT_local_floor).
     assert!(
-        run.stdout.contains("per eye (multiview)"),
+        run.stdout.contains("per eye (multiview, MSAA 1)"),
         "not rendered with multiview\n{run}"
     );
     assert_eq!(summary_value(&run, "format"), "R8G8B8A8_SRGB");

@@ -110,6 +110,9 @@ pub struct RunReport {
     /// Mean triangles drawn per timed frame (patches and skirt, both eyes' union), from the
     /// LOD: a measure of geometry cost that does not depend on the machine.
     pub mean_triangles: f64,
+    /// Device memory of the renderer's transient attachments (multisampled colour and depth,
+    /// or the depth alone), bytes.
+    pub attachment_bytes: u64,
     /// Validation errors reported during the run (0 without the layer).
     pub validation_errors: u32,
     /// The device's name.
@@ -364,6 +367,7 @@ impl<'a> Frames<'a> {
     fn finish(mut self) -> (RunReport, &'a mut dyn FrameLoop) {
         let gpu = self.xr.gpu();
         gpu.wait_idle();
+        let attachment_bytes = self.renderer.attachment_bytes();
         self.renderer.destroy(gpu);
         if let Some(r) = self.readback.as_mut() {
             r.destroy(gpu);
@@ -373,6 +377,7 @@ impl<'a> Frames<'a> {
             times: self.stats.times,
             max_draws: self.stats.max_draws,
             mean_triangles: self.stats.triangles as f64 / self.stats.triangle_frames.max(1) as f64,
+            attachment_bytes,
             validation_errors: 0,
             device: gpu.device_name.clone(),
         };

@@ -6,7 +6,9 @@ use clap::{Args, ValueEnum};
 use vr_ocean::app::RunOptions;
 use vr_ocean::base::ParamError;
 use vr_ocean::lod::{LodSettings, OceanSize, QualityPreset};
-use vr_ocean::render::{ContextOptions, Msaa, RendererSettings, StereoMode, Validation};
+use vr_ocean::render::{
+    ContextOptions, GpuContext, Msaa, RendererSettings, StereoMode, Validation,
+};
 use vr_ocean::sim::{FoamParams, GridSize, OceanConfig, SpectrumKind, WaveParams};
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -139,9 +141,10 @@ pub struct ViewArgs {
     /// Load the Khronos validation layer (fails if it is not installed).
     #[arg(long)]
     pub validation: bool,
-    /// Multisample anti-aliasing: samples per pixel (1, 2 or 4).
-    #[arg(long, default_value_t = 4)]
-    pub msaa: u32,
+    /// Multisample anti-aliasing: samples per pixel (1, 2 or 4) [default: 4 on a GPU, 1 on a
+    /// CPU Vulkan device (lavapipe), which rasterizes every sample].
+    #[arg(long)]
+    pub msaa: Option<u32>,
     /// Specular anti-aliasing: slopes a pixel cannot show widen the sun's highlight instead of
     /// sparkling.
     #[arg(long, value_enum, default_value_t = OnOff::On)]
@@ -179,17 +182,28 @@ impl ViewArgs {
                     StereoArg::Multiview => StereoMode::Multiview,
                     StereoArg::TwoPass => StereoMode::TwoPass,
                 },
-                msaa: Msaa::from_samples(self.msaa).ok_or(ParamError::new(
-                    "msaa",
-                    self.msaa as f64,
-                    "1, 2 or 4 samples per pixel",
-                ))?,
+                msaa: match self.msaa {
+                    None => Msaa::X4,
+                    Some(n) => Msaa::from_samples(n).ok_or(ParamError::new(
+                        "msaa",
+                        n as f64,
+                        "1, 2 or 4 samples per pixel",
+                    ))?,
+                },
                 specular_aa: self.specular_aa == OnOff::On,
                 ..RendererSettings::default()
             },
             capture,
             warmup,
         })
+    }
+
+    /// The MSAA to use on `gpu`: as asked, else 4, or 1 on a CPU Vulkan device (lavapipe
+    /// rasterizes every sample, so 4 cost it about 4×; a tile-based GPU resolves on chip).
+    pub fn resolve_msaa(&self, opts: &mut RunOptions, gpu: &GpuContext) {
+        if self.msaa.is_none() && gpu.cpu_device {
+            opts.renderer.msaa = Msaa::X1;
+        }
     }
 
     pub fn context(&self) -> ContextOptions {

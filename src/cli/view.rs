@@ -139,15 +139,17 @@ pub fn headless_cmd(a: HeadlessArgs) -> CmdResult {
     if let Some(bad) = capture.iter().find(|&&f| f >= a.frames) {
         return Err(ParamError::new("capture", *bad as f64, "frame numbers below --frames").into());
     }
-    let opts = a.view.run_options(capture, a.warmup.min(a.frames - 1))?;
+    let mut opts = a.view.run_options(capture, a.warmup.min(a.frames - 1))?;
     export::prepare_dir(&a.out)?;
     let mut xr = HeadlessXr::new(&a.view.context(), size, path, a.frames)?;
+    a.view.resolve_msaa(&mut opts, xr.gpu());
     println!(
-        "rendering {} frames of {}x{} per eye ({}) on {}",
+        "rendering {} frames of {}x{} per eye ({}, MSAA {}) on {}",
         a.frames,
         size.extent().width,
         size.extent().height,
         opts.renderer.stereo.name(),
+        opts.renderer.msaa.samples(),
         xr.gpu().device_name
     );
     let mut pngs = PngWriter {
@@ -194,7 +196,7 @@ pub fn window_cmd(a: WindowArgs, fallback: bool) -> CmdResult {
     }
     let path = a.path.as_deref().map(CameraPath::load).transpose()?;
     let warmup = a.frames.map_or(10, |n| n.saturating_sub(1).min(10));
-    let opts = a.view.run_options(Vec::new(), warmup)?;
+    let mut opts = a.view.run_options(Vec::new(), warmup)?;
     if let Some(shot) = &a.screenshot {
         let dir = shot.parent().filter(|d| !d.as_os_str().is_empty());
         export::prepare_dir(dir.unwrap_or(std::path::Path::new(".")))?;
@@ -210,14 +212,16 @@ pub fn window_cmd(a: WindowArgs, fallback: bool) -> CmdResult {
         Err(OpenError::Unavailable(why)) if fallback => return headless_fallback(&why, a.view),
         Err(e) => return Err(e.into()),
     };
+    a.view.resolve_msaa(&mut opts, xr.gpu());
     let eye = size.eye().extent();
     println!(
-        "window {}x{}: both eyes at {}x{} ({}) on {}",
+        "window {}x{}: both eyes at {}x{} ({}, MSAA {}) on {}",
         size.extent().width,
         size.extent().height,
         eye.width,
         eye.height,
         opts.renderer.stereo.name(),
+        opts.renderer.msaa.samples(),
         xr.gpu().device_name
     );
     if a.path.is_none() {
@@ -245,7 +249,11 @@ pub fn xr_cmd(a: XrArgs) -> CmdResult {
     if a.frames == Some(0) {
         return Err(ParamError::new("frames", 0.0, "at least 1 frame").into());
     }
-    let opts = a.view.run_options(Vec::new(), 10)?;
+    let mut opts = a.view.run_options(Vec::new(), 10)?;
+    if a.submit_depth && a.view.msaa.is_none() {
+        // Submitted depth is single-sample.
+        opts.renderer.msaa = Msaa::X1;
+    }
     if a.submit_depth && opts.renderer.msaa != Msaa::X1 {
         return Err(
             "--submit-depth needs --msaa 1: the multisampled depth is not resolved, so there \
@@ -276,12 +284,14 @@ pub fn xr_cmd(a: XrArgs) -> CmdResult {
         submit_depth: a.submit_depth,
     })?;
     openxr::install_exit_signal_handler();
+    a.view.resolve_msaa(&mut opts, xr.gpu());
     let extent = xr.targets().extent;
     println!(
-        "OpenXR session: {}x{} per eye ({}) on {}",
+        "OpenXR session: {}x{} per eye ({}, MSAA {}) on {}",
         extent.width,
         extent.height,
         opts.renderer.stereo.name(),
+        opts.renderer.msaa.samples(),
         xr.gpu().device_name
     );
     // Counts validation errors over the whole session, shutdown included.
