@@ -48,9 +48,10 @@ const APT_PACKAGES: &[&str] = &[
     "mesa-vulkan-drivers",
     "vulkan-validationlayers",
     // The window-mode test runs a real window on a virtual X server (`xvfb-run`, which needs
-    // `xauth`).
+    // `xauth`); winit loads libxkbcommon-x11 at run time.
     "xvfb",
     "xauth",
+    "libxkbcommon-x11-0",
     // The OpenXR tests run Monado in a Debian trixie chroot (Monado is not in bookworm):
     // debootstrap builds it, zstd packs and unpacks its cached tarball.
     "debootstrap",
@@ -70,9 +71,10 @@ const APT_PACKAGES: &[&str] = &[
 ];
 
 /// What running the ocean needs on a fresh machine (`cargo xtask run`): the Vulkan loader and
-/// a driver (Mesa's, with lavapipe for machines without a GPU). Building needs nothing more:
-/// the SPIR-V is committed (`shaders/spirv/`).
-const RUN_APT_PACKAGES: &[&str] = &["libvulkan1", "mesa-vulkan-drivers"];
+/// a driver (Mesa's, with lavapipe for machines without a GPU), and libxkbcommon-x11, which
+/// winit loads for a window on X11. Building needs nothing more: the SPIR-V is committed
+/// (`shaders/spirv/`).
+const RUN_APT_PACKAGES: &[&str] = &["libvulkan1", "mesa-vulkan-drivers", "libxkbcommon-x11-0"];
 
 /// What `cargo xtask shaders` needs: glslang's compiler.
 const SHADER_APT_PACKAGES: &[&str] = &["glslang-tools"];
@@ -231,7 +233,8 @@ commands:
         --no-setup   install nothing; only run the checks
   run [--no-setup] [ARGS...]
         Installs what running needs when it is missing (the Vulkan loader and Mesa's
-        drivers: libvulkan1 mesa-vulkan-drivers, via apt-get, using sudo when not root),
+        drivers, and the keyboard library the window needs: libvulkan1
+        mesa-vulkan-drivers libxkbcommon-x11-0, via apt-get, using sudo when not root),
         then cargo run --release --bin vr-ocean -- ARGS...
         Without ARGS: the ocean in a window (keys in the README); with no display it
         renders 144 frames headless into ./vr-ocean-headless/ and says where.

@@ -68,6 +68,52 @@ impl std::fmt::Display for OpenError {
 
 impl std::error::Error for OpenError {}
 
+/// The shared libraries winit opens at run time for the display in use (X11, or Wayland when
+/// `wayland`) that cannot be loaded here.
+fn window_libraries_missing(wayland: bool) -> Vec<&'static str> {
+    let wanted: &[&'static str] = if wayland {
+        &["libwayland-client.so.0", "libxkbcommon.so.0"]
+    } else {
+        &["libX11.so.6", "libxkbcommon-x11.so.0", "libxkbcommon.so.0"]
+    };
+    wanted
+        .iter()
+        .copied()
+        .filter(|lib| !can_load(lib))
+        .collect()
+}
+
+/// Whether the dynamic linker can load `lib` (then unloads it).
+fn can_load(lib: &str) -> bool {
+    #[cfg(unix)]
+    {
+        use std::ffi::{c_char, c_int, c_void, CString};
+        extern "C" {
+            fn dlopen(filename: *const c_char, flag: c_int) -> *mut c_void;
+            fn dlclose(handle: *mut c_void) -> c_int;
+        }
+        const RTLD_NOW: c_int = 2;
+        let Ok(name) = CString::new(lib) else {
+            return false;
+        };
+        // SAFETY: a NUL-terminated name; the handle is closed again at once. Loading runs the
+        // library's initialisers, as winit's own loading would.
+        unsafe {
+            let h = dlopen(name.as_ptr(), RTLD_NOW);
+            if h.is_null() {
+                return false;
+            }
+            dlclose(h);
+        }
+        true
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = lib;
+        true
+    }
+}
+
 /// The window backend.
 pub struct WindowXr {
     // Destroyed explicitly in `Drop` while `ctx` lives.
@@ -99,6 +145,16 @@ impl WindowXr {
             return Err(OpenError::Unavailable(
                 "no display (neither DISPLAY nor WAYLAND_DISPLAY is set)".into(),
             ));
+        }
+        // winit loads these at run time and panics when they are missing (a fresh minimal
+        // system has a display but not them): check first, and say what to install.
+        let missing = window_libraries_missing(has("WAYLAND_DISPLAY") || has("WAYLAND_SOCKET"));
+        if !missing.is_empty() {
+            return Err(OpenError::Unavailable(format!(
+                "the window system's libraries are missing ({}): install them (Debian/Ubuntu: \
+                 apt install libxkbcommon-x11-0; cargo xtask run does)",
+                missing.join(", ")
+            )));
         }
         let mut events = EventLoop::new().map_err(|e| unavailable("no window system", &e))?;
         let size = options.size;
@@ -343,5 +399,18 @@ impl Drop for WindowXr {
         self.ctx.wait_idle();
         self.presenter.destroy(&self.ctx);
         self.swapchain.destroy(&self.ctx);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn missing_window_libraries_are_found_before_winit_panics() {
+        assert!(!can_load("libvr-ocean-no-such-library.so.9"));
+        if cfg!(target_os = "linux") {
+            assert!(can_load("libc.so.6"));
+        }
     }
 }
