@@ -8,9 +8,10 @@ mod rustfft_2d;
 
 use std::time::{Duration, Instant};
 
-use crate::sim::fft::Fft2d;
+use crate::sim::fft::{force_backend, forced_backend, Backend, Fft2d, UnavailableBackend};
 use crate::sim::grid::{GridSize, SplitField};
 use crate::sim::params::OceanConfig;
+use crate::sim::simd::{cap_tier, tier_cap};
 use crate::sim::step::{SimCore, SimError, Surfaces};
 
 /// What to measure.
@@ -20,6 +21,10 @@ pub struct BenchOptions {
     pub sizes: Vec<GridSize>,
     /// Thread counts to run each size with.
     pub threads: Vec<usize>,
+    /// SIMD tiers to run each size on, in the order given: the FFT on that backend and the
+    /// element-wise kernels at its [`Backend::element_tier`]. Empty: every tier this CPU has,
+    /// fastest first ([`all_tiers`]).
+    pub tiers: Vec<Backend>,
     /// Timed repetitions per measurement (after warm-up).
     pub iterations: usize,
     /// Wave parameters and cascades (the grid is replaced by each size).
@@ -29,7 +34,12 @@ pub struct BenchOptions {
     pub baselines: bool,
 }
 
-/// Median times (ms) for one grid size and thread count.
+/// Every SIMD tier this CPU runs, fastest first (the default of [`BenchOptions::tiers`]).
+pub fn all_tiers() -> Vec<Backend> {
+    Backend::available().into_iter().rev().collect()
+}
+
+/// Median times (ms) for one grid size, SIMD tier and thread count.
 #[derive(Clone, Debug, Default)]
 pub struct BenchRow {
     /// Grid side.
@@ -44,15 +54,19 @@ pub struct BenchRow {
     pub fft_ms: f64,
     /// Stages 5-6+ per step.
     pub surface_ms: f64,
-    /// The whole step.
+    /// Stages 2-6 of a step (evolve + FFT + surface, summed per run): the step of the
+    /// performance goals.
     pub step_ms: f64,
+    /// Everything `SimCore::step` times ([`crate::sim::StageTimes::total`]), stages after the
+    /// surface included.
+    pub total_ms: f64,
     /// Our batch of four inverse 2D FFTs alone.
     pub ours_fft4_ms: f64,
     /// rustfft, four 2D inverse transforms rows then columns (single thread rows only).
     pub rustfft4_ms: Option<f64>,
     /// FFTW FFTW_PATIENT, four 2D inverse transforms (single thread rows only).
     pub fftw4_ms: Option<f64>,
-    /// The FFT backend that ran.
+    /// The FFT backend that ran (the SIMD tier of the row).
     pub backend: String,
 }
 
@@ -61,8 +75,24 @@ fn median_ms(samples: &mut [Duration]) -> f64 {
     samples[samples.len() / 2].as_secs_f64() * 1e3
 }
 
-/// One timed thing; each run returns [evolve, fft, surface, total] (unused parts zero).
-type Contender<'a> = Box<dyn FnMut() -> [Duration; 4] + Send + 'a>;
+/// Parts of one timed run: [evolve, fft, surface, stages 2-6, total] (unused parts zero).
+type Parts = [Duration; PARTS];
+
+/// Number of parts a contender reports per run.
+const PARTS: usize = 5;
+
+/// Index of the FFT time in [`Parts`] (the only part the FFT-only contenders fill).
+const FFT_PART: usize = 1;
+
+/// A run that times only an FFT.
+fn fft_only(d: Duration) -> Parts {
+    let mut p = [Duration::ZERO; PARTS];
+    p[FFT_PART] = d;
+    p
+}
+
+/// One timed thing.
+type Contender<'a> = Box<dyn FnMut() -> Parts + Send + 'a>;
 
 /// Consecutive runs of one contender per round; the first [`BLOCK_WARMUP`] of each block are
 /// discarded (the previous contender's idle Rayon workers are still spinning then, and caches
@@ -74,8 +104,8 @@ const BLOCK_WARMUP: usize = 2;
 /// Runs `contenders` in rounds, a block of [`BLOCK`] consecutive runs each per round, so slow
 /// drifts of a shared machine hit all of them alike while every kept run is warm. Returns the
 /// per-part medians (ms) of each contender over about `iterations` kept runs.
-fn interleaved(contenders: &mut [Contender<'_>], iterations: usize) -> Vec<[f64; 4]> {
-    let mut samples: Vec<Vec<[Duration; 4]>> = vec![Vec::new(); contenders.len()];
+fn interleaved(contenders: &mut [Contender<'_>], iterations: usize) -> Vec<[f64; PARTS]> {
+    let mut samples: Vec<Vec<Parts>> = vec![Vec::new(); contenders.len()];
     let rounds = iterations.div_ceil(BLOCK - BLOCK_WARMUP);
     for _ in 0..rounds {
         for (c, s) in contenders.iter_mut().zip(&mut samples) {
@@ -105,9 +135,69 @@ fn pool(threads: usize) -> Result<rayon::ThreadPool, SimError> {
         .map_err(|e| SimError::Threads(e.to_string()))
 }
 
-/// Runs every size: all thread counts and baselines of one size are interleaved (see
-/// `interleaved`). Baselines are single-threaded and reported in the 1-thread row.
-pub fn run(opts: &BenchOptions) -> Result<Vec<BenchRow>, SimError> {
+/// Why a benchmark could not run.
+#[derive(Debug)]
+pub enum BenchError {
+    /// The simulation could not start.
+    Sim(SimError),
+    /// A SIMD tier this CPU lacks was asked for.
+    Tier(UnavailableBackend),
+}
+
+impl std::fmt::Display for BenchError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            BenchError::Sim(e) => e.fmt(f),
+            BenchError::Tier(e) => e.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for BenchError {}
+
+impl From<SimError> for BenchError {
+    fn from(e: SimError) -> Self {
+        BenchError::Sim(e)
+    }
+}
+
+impl From<UnavailableBackend> for BenchError {
+    fn from(e: UnavailableBackend) -> Self {
+        BenchError::Tier(e)
+    }
+}
+
+/// Runs `f` with new FFT plans forced onto `tier` and the element-wise kernels capped at its
+/// [`Backend::element_tier`], then restores both settings. `tier` must be available.
+fn at_tier<R>(tier: Backend, f: impl FnOnce() -> R) -> R {
+    let (forced, cap) = (forced_backend(), tier_cap());
+    force_backend(Some(tier)).expect("tiers are checked before measuring");
+    cap_tier(tier.element_tier());
+    let r = f();
+    cap_tier(cap);
+    force_backend(forced).expect("it was forced before, so it is available");
+    r
+}
+
+/// Runs every size: all tiers, thread counts and baselines of one size are interleaved (see
+/// `interleaved`). Baselines are single-threaded and reported in the 1-thread rows.
+///
+/// # Errors
+/// A tier this CPU lacks ([`BenchError::Tier`], checked before anything runs), or a pool or
+/// simulation that cannot start.
+pub fn run(opts: &BenchOptions) -> Result<Vec<BenchRow>, BenchError> {
+    let tiers = if opts.tiers.is_empty() {
+        all_tiers()
+    } else {
+        opts.tiers.clone()
+    };
+    if let Some(&wanted) = tiers.iter().find(|b| !b.is_available()) {
+        return Err(UnavailableBackend {
+            wanted,
+            available: Backend::available(),
+        }
+        .into());
+    }
     let mut rows = Vec::new();
     for &grid in &opts.sizes {
         let mut cfg = opts.config.clone();
@@ -115,6 +205,7 @@ pub fn run(opts: &BenchOptions) -> Result<Vec<BenchRow>, SimError> {
         rows.extend(measure(
             &cfg,
             &opts.threads,
+            &tiers,
             opts.iterations,
             opts.baselines,
         )?);
@@ -125,56 +216,71 @@ pub fn run(opts: &BenchOptions) -> Result<Vec<BenchRow>, SimError> {
 fn measure(
     cfg: &OceanConfig,
     threads: &[usize],
+    tiers: &[Backend],
     iterations: usize,
     baselines: bool,
 ) -> Result<Vec<BenchRow>, SimError> {
     let n = cfg.grid.n();
     let input = test_field(cfg.grid);
-    let fft = Fft2d::new(cfg.grid);
+    let ffts: Vec<Fft2d> = tiers
+        .iter()
+        .map(|&b| Fft2d::with_backend(cfg.grid, b).expect("tiers are checked before measuring"))
+        .collect();
     let mut rows = Vec::new();
     let pools = threads
         .iter()
         .map(|&t| pool(t))
         .collect::<Result<Vec<_>, _>>()?;
+    // Stage 1 does not depend on the tier: measured once per thread count.
+    let mut spectrum_ms = vec![None; threads.len()];
     let mut contenders: Vec<Contender<'_>> = Vec::new();
-    for (&t, pool_t) in threads.iter().zip(&pools) {
-        let mut core = pool_t.install(|| SimCore::new(cfg.clone()))?;
-        let spectrum_ms = {
-            let mut d: Vec<Duration> = (0..3)
-                .map(|_| pool_t.install(|| core.regenerate_spectrum()))
-                .collect();
-            median_ms(&mut d)
-        };
-        rows.push(BenchRow {
-            n,
-            threads: t,
-            spectrum_ms,
-            backend: fft.backend().to_string(),
-            ..BenchRow::default()
-        });
-        let mut out = Surfaces::new(cfg);
-        let mut time = 0.0;
-        contenders.push(Box::new(move || {
-            time += 1.0 / 72.0;
-            pool_t.install(|| core.step(time, &mut out));
-            let s = core.timings();
-            [s.evolve, s.fft, s.surface, s.total()]
-        }));
-        let mut fields: Vec<SplitField> = (0..4).map(|_| input.clone()).collect();
-        // As in the pipeline: one scratch field, the fields transformed one after another.
-        let mut scratch = [SplitField::zeros(cfg.grid)];
-        let (fft, input) = (&fft, &input);
-        contenders.push(Box::new(move || {
-            // Refill and time on the pool's thread, as FFTW refills and runs on its own: the
-            // inputs then sit in the transforming core's cache for both.
-            let d = pool_t.install(|| {
-                fields.iter_mut().for_each(|f| f.clone_from(input));
-                let start = Instant::now();
-                fft.inverse_batch(&mut fields, &mut scratch);
-                start.elapsed()
+    for (&tier, fft) in tiers.iter().zip(&ffts) {
+        for (i, (&t, pool_t)) in threads.iter().zip(&pools).enumerate() {
+            let mut core = at_tier(tier, || pool_t.install(|| SimCore::new(cfg.clone())))?;
+            debug_assert_eq!(core.fft().backend(), tier);
+            let spectrum_ms = *spectrum_ms[i].get_or_insert_with(|| {
+                let mut d: Vec<Duration> = (0..3)
+                    .map(|_| pool_t.install(|| core.regenerate_spectrum()))
+                    .collect();
+                median_ms(&mut d)
             });
-            [Duration::ZERO, d, Duration::ZERO, Duration::ZERO]
-        }));
+            rows.push(BenchRow {
+                n,
+                threads: t,
+                spectrum_ms,
+                backend: tier.to_string(),
+                ..BenchRow::default()
+            });
+            let mut out = Surfaces::new(cfg);
+            let mut time = 0.0;
+            contenders.push(Box::new(move || {
+                time += 1.0 / 72.0;
+                at_tier(tier, || pool_t.install(|| core.step(time, &mut out)));
+                let s = core.timings();
+                [
+                    s.evolve,
+                    s.fft,
+                    s.surface,
+                    s.evolve + s.fft + s.surface,
+                    s.total(),
+                ]
+            }));
+            let mut fields: Vec<SplitField> = (0..4).map(|_| input.clone()).collect();
+            // As in the pipeline: one scratch field, the fields transformed one after another.
+            let mut scratch = [SplitField::zeros(cfg.grid)];
+            let input = &input;
+            contenders.push(Box::new(move || {
+                // Refill and time on the pool's thread, as FFTW refills and runs on its own:
+                // the inputs then sit in the transforming core's cache for both.
+                let d = pool_t.install(|| {
+                    fields.iter_mut().for_each(|f| f.clone_from(input));
+                    let start = Instant::now();
+                    fft.inverse_batch(&mut fields, &mut scratch);
+                    start.elapsed()
+                });
+                fft_only(d)
+            }));
+        }
     }
     let ours = contenders.len();
     #[cfg(feature = "baselines")]
@@ -184,12 +290,7 @@ fn measure(
             b.refill();
             let start = Instant::now();
             b.inverse_all();
-            [
-                Duration::ZERO,
-                start.elapsed(),
-                Duration::ZERO,
-                Duration::ZERO,
-            ]
+            fft_only(start.elapsed())
         }));
     }
     #[cfg(feature = "fftw")]
@@ -201,26 +302,26 @@ fn measure(
     // every contender is timed on the same thread and core.
     if let Some(single) = threads.iter().position(|&t| t == 1).map(|i| &pools[i]) {
         for c in &mut contenders[ours..] {
-            let mut inner = std::mem::replace(c, Box::new(|| [Duration::ZERO; 4]));
+            let mut inner = std::mem::replace(c, Box::new(|| [Duration::ZERO; PARTS]));
             *c = Box::new(move || single.install(&mut inner));
         }
     }
     let medians = interleaved(&mut contenders, iterations);
     for (i, row) in rows.iter_mut().enumerate() {
-        let [ev, ff, su, st] = medians[2 * i];
-        (row.evolve_ms, row.fft_ms, row.surface_ms, row.step_ms) = (ev, ff, su, st);
-        row.ours_fft4_ms = medians[2 * i + 1][1];
+        let [ev, ff, su, st, total] = medians[2 * i];
+        (row.evolve_ms, row.fft_ms, row.surface_ms) = (ev, ff, su);
+        (row.step_ms, row.total_ms) = (st, total);
+        row.ours_fft4_ms = medians[2 * i + 1][FFT_PART];
     }
-    #[allow(unused_mut)] // only advanced with the `baselines` feature
-    let mut baseline_ms = medians[ours..].iter().map(|m| m[1]);
-    let single = rows.iter_mut().find(|r| r.threads == 1);
-    if let Some(row) = single.filter(|_| baselines) {
-        #[cfg(feature = "baselines")]
-        {
-            row.rustfft4_ms = baseline_ms.next();
-        }
-        // FFTW's best set-up.
-        row.fftw4_ms = baseline_ms.reduce(f64::min);
+    let mut baseline_ms = medians[ours..].iter().map(|m| m[FFT_PART]);
+    #[cfg(feature = "baselines")]
+    let rustfft4_ms = if baselines { baseline_ms.next() } else { None };
+    #[cfg(not(feature = "baselines"))]
+    let rustfft4_ms = None;
+    // FFTW's best set-up.
+    let fftw4_ms = baseline_ms.reduce(f64::min);
+    for row in rows.iter_mut().filter(|r| r.threads == 1 && baselines) {
+        (row.rustfft4_ms, row.fftw4_ms) = (rustfft4_ms, fftw4_ms);
     }
     Ok(rows)
 }
@@ -249,12 +350,7 @@ fn fftw_contenders<'a>(n: usize, input: &'a SplitField) -> Vec<Contender<'a>> {
             }
             let start = Instant::now();
             plan.execute();
-            [
-                Duration::ZERO,
-                start.elapsed(),
-                Duration::ZERO,
-                Duration::ZERO,
-            ]
+            fft_only(start.elapsed())
         }));
     }
     out
@@ -274,11 +370,12 @@ fn test_field(grid: GridSize) -> SplitField {
     f
 }
 
-/// The table `vr-ocean bench` prints, with the ratios the project's performance goals use.
+/// The table `vr-ocean bench` prints, with the ratios the project's performance goals use:
+/// "step" is stages 2-6 (evolve + FFT + surface), "total" all `SimCore::step` times.
 pub fn format_table(rows: &[BenchRow]) -> String {
     let mut s = String::new();
     s.push_str(
-        "   N thr backend  | stage1   evolve      fft  surface     step | ours4  rustfft4    fftw4 | fft4/fftw step/fftw4\n",
+        "   N thr backend  | stage1   evolve      fft  surface     step    total | ours4  rustfft4    fftw4 | fft4/fftw step/fftw4\n",
     );
     let opt = |v: Option<f64>| v.map_or("       -".to_string(), |v| format!("{v:8.3}"));
     for r in rows {
@@ -287,7 +384,7 @@ pub fn format_table(rows: &[BenchRow]) -> String {
                 .map_or("     -".to_string(), |f| format!("{:6.2}", a / f))
         };
         s.push_str(&format!(
-            "{:4} {:3} {:8} | {:6.2} {:8.3} {:8.3} {:8.3} {:8.3} | {:6.3} {} {} | {}    {}\n",
+            "{:4} {:3} {:8} | {:6.2} {:8.3} {:8.3} {:8.3} {:8.3} {:8.3} | {:6.3} {} {} | {}    {}\n",
             r.n,
             r.threads,
             r.backend,
@@ -296,6 +393,7 @@ pub fn format_table(rows: &[BenchRow]) -> String {
             r.fft_ms,
             r.surface_ms,
             r.step_ms,
+            r.total_ms,
             r.ours_fft4_ms,
             opt(r.rustfft4_ms),
             opt(r.fftw4_ms),
@@ -303,18 +401,27 @@ pub fn format_table(rows: &[BenchRow]) -> String {
             ratio(r.step_ms),
         ));
     }
-    // Thread scaling: step time at 1 thread over step time at each other count.
+    // Thread scaling: step time at 1 thread over step time at each other count, per tier.
     for r in rows.iter().filter(|r| r.threads > 1) {
-        if let Some(one) = rows.iter().find(|o| o.n == r.n && o.threads == 1) {
+        let one = rows
+            .iter()
+            .find(|o| o.n == r.n && o.backend == r.backend && o.threads == 1);
+        if let Some(one) = one {
             s.push_str(&format!(
-                "N={} speed-up {} threads vs 1: step {:.2}x, fft {:.2}x\n",
+                "N={} {} speed-up {} threads vs 1: step {:.2}x, fft {:.2}x\n",
                 r.n,
+                r.backend,
                 r.threads,
                 one.step_ms / r.step_ms,
                 one.ours_fft4_ms / r.ours_fft4_ms
             ));
         }
     }
-    s.push_str("times are medians in ms; stage1 runs on demand, the rest every step\n");
+    s.push_str(
+        "times are medians in ms; stage1 runs on demand, the rest every step; step = evolve + fft + \
+         surface (stages 2-6), total = everything SimCore::step times; each tier runs the FFT on \
+         that backend and the element-wise kernels at the matching width (the x86-64 baseline, \
+         SSE2, for sse2 and scalar)\n",
+    );
     s
 }

@@ -10,6 +10,7 @@ use super::CmdResult;
 use vr_ocean::base::ParamError;
 use vr_ocean::bench::{self, BenchOptions};
 use vr_ocean::export;
+use vr_ocean::sim::fft::{Backend, UnavailableBackend};
 use vr_ocean::sim::{GridSize, OceanConfig, SimCore, SimError, Simulation, Surfaces};
 
 #[derive(Args)]
@@ -91,6 +92,12 @@ pub struct BenchArgs {
     /// Skip the rustfft/FFTW baselines (for thread-scaling runs: their buffers crowd the cache).
     #[arg(long)]
     pub skip_baselines: bool,
+    /// SIMD tiers to measure, comma-separated: avx512, avx2, sse2, scalar (x86-64), neon
+    /// (aarch64), or `all` (every tier this CPU has, fastest first). Each runs our FFT on that
+    /// backend and the element-wise kernels at the matching width; sse2 is the 128-bit path
+    /// nearest the headset's NEON.
+    #[arg(long, alias = "tier", value_delimiter = ',', default_value = "all")]
+    pub tiers: Vec<String>,
 }
 
 pub fn simulate(a: SimulateArgs) -> CmdResult {
@@ -201,9 +208,11 @@ pub fn bench_cmd(a: BenchArgs) -> CmdResult {
     let mut config = OceanConfig::single(256, 250.0)?;
     config.patch_sizes = a.patch.clone();
     config.validate()?;
+    let tiers = bench_tiers(&a.tiers)?;
     let opts = BenchOptions {
         sizes,
         threads: a.threads,
+        tiers,
         iterations: a.iterations,
         config,
         baselines: !a.skip_baselines,
@@ -287,7 +296,51 @@ pub fn lod_svg_cmd(a: LodSvgArgs) -> CmdResult {
     Ok(())
 }
 
+/// The tiers `--tiers` names (`all` or empty: every tier this CPU has, fastest first).
+fn bench_tiers(names: &[String]) -> Result<Vec<Backend>, Box<dyn std::error::Error>> {
+    if names.is_empty() || names.iter().any(|n| n.trim().eq_ignore_ascii_case("all")) {
+        return Ok(bench::all_tiers());
+    }
+    let mut tiers = Vec::new();
+    for name in names {
+        let tier = Backend::from_name(name).ok_or_else(|| {
+            format!(
+                "unknown SIMD tier '{name}' for --tiers: expected all, avx512, avx2, sse2, scalar \
+                 or neon"
+            )
+        })?;
+        if !tier.is_available() {
+            return Err(UnavailableBackend {
+                wanted: tier,
+                available: Backend::available(),
+            }
+            .into());
+        }
+        if !tiers.contains(&tier) {
+            tiers.push(tier);
+        }
+    }
+    Ok(tiers)
+}
+
+/// The CPU's model name with its family and model numbers (`lscpu`'s), e.g.
+/// "AMD EPYC (family 25 model 1)": virtual machines often report only the brand.
 fn cpu_model() -> String {
+    let info = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
+    let field = |key: &str| {
+        info.lines()
+            .find(|l| l.split(':').next().is_some_and(|k| k.trim() == key))
+            .and_then(|l| l.split(':').nth(1))
+            .map(|v| v.trim().to_string())
+    };
+    let name = cpu_name();
+    match (field("cpu family"), field("model")) {
+        (Some(family), Some(model)) => format!("{name} (family {family} model {model})"),
+        _ => name,
+    }
+}
+
+fn cpu_name() -> String {
     std::fs::read_to_string("/proc/cpuinfo")
         .ok()
         .and_then(|s| {

@@ -28,6 +28,15 @@ pub fn cap_tier(tier: Tier) {
     CAP.store(tier as u8, Ordering::Relaxed);
 }
 
+/// The cap [`cap_tier`] last set ([`Tier::Avx512`], no cap, by default).
+pub fn tier_cap() -> Tier {
+    match CAP.load(Ordering::Relaxed) {
+        0 => Tier::Baseline,
+        1 => Tier::Avx2,
+        _ => Tier::Avx512,
+    }
+}
+
 /// The tier the kernels run at now: the best the CPU supports, within [`cap_tier`].
 pub fn active_tier() -> Tier {
     let cap = CAP.load(Ordering::Relaxed);

@@ -271,3 +271,46 @@ fn detect_and_availability_agree() {
         );
     }
 }
+
+#[test]
+fn backend_names_round_trip() {
+    for b in Backend::ALL {
+        assert_eq!(Backend::from_name(&b.to_string()), Some(b));
+        assert_eq!(Backend::from_name(&b.to_string().to_uppercase()), Some(b));
+        assert_eq!(backend_of_code(forced_code(b)), Some(b));
+    }
+    assert_eq!(Backend::from_name("avx"), None);
+    assert_eq!(backend_of_code(NOT_FORCED), None);
+}
+
+#[test]
+fn forcing_a_backend_the_cpu_lacks_is_an_error_that_changes_nothing() {
+    // Only the error path: forcing an available backend would change the plans of tests
+    // running at the same time in this process.
+    let before = forced_backend();
+    for b in Backend::ALL.into_iter().filter(|b| !b.is_available()) {
+        let err = force_backend(Some(b)).unwrap_err();
+        assert_eq!(err.wanted, b);
+        assert_eq!(err.available, Backend::available());
+        let msg = err.to_string();
+        assert!(
+            msg.contains(&b.to_string()) && msg.contains("scalar"),
+            "{msg}"
+        );
+        assert_eq!(forced_backend(), before);
+    }
+    #[cfg(target_arch = "x86_64")]
+    assert!(force_backend(Some(Backend::Neon)).is_err());
+    #[cfg(target_arch = "aarch64")]
+    assert!(force_backend(Some(Backend::Avx2)).is_err());
+}
+
+#[test]
+fn element_tiers_match_the_vector_width() {
+    use crate::sim::simd::Tier;
+    assert_eq!(Backend::Avx512.element_tier(), Tier::Avx512);
+    assert_eq!(Backend::Avx2.element_tier(), Tier::Avx2);
+    for b in [Backend::Scalar, Backend::Sse2, Backend::Neon] {
+        assert_eq!(b.element_tier(), Tier::Baseline);
+    }
+}
