@@ -16,7 +16,7 @@ use glam::Vec3;
 use vr_ocean::lod::{LodSettings, OceanSize, QualityPreset};
 use vr_ocean::render::camera::project_to_pixel;
 use vr_ocean::render::{Msaa, StereoMode};
-use vr_ocean::sim::OceanConfig;
+use vr_ocean::sim::{OceanConfig, SpectrumKind};
 
 /// Per-eye size of the tested frames; the reference is 3× in each direction.
 const SIZE: u32 = 480;
@@ -304,9 +304,15 @@ fn msaa_blends_the_horizon_edge() {
             let mut o = options(msaa, true);
             o.renderer.sky_marker = true;
             o.ocean.waves.wind_speed = 14.0;
-            // Low over a fresh sea: wave crests stand against the sky along the horizon.
+            // Low over a fresh, short-crested Phillips sea: wave crests stand against the sky
+            // and make the horizon jagged. (A long JONSWAP swell draws a nearly straight
+            // horizon whose blended share depends on where it falls within a pixel row.)
+            o.ocean.waves.spectrum = SpectrumKind::Phillips { amplitude: 1.0 };
             let (_, frames) = gpu::render(&o, gpu::standing(1.2, 40.0, 0.0), 3, 320, 240);
             let f = &frames[0];
+            if std::env::var_os("VR_OCEAN_SAVE_FRAMES").is_some() {
+                eprintln!("saved {}", f.save(&format!("edge-{msaa:?}")).display());
+            }
             let (e0, s0) = blended_edge(f, 0);
             let (e1, s1) = blended_edge(f, 1);
             assert!(e0 > 200 && e1 > 200, "edges of {e0} and {e1} pixels");

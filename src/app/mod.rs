@@ -243,6 +243,9 @@ impl<'a> Frames<'a> {
         let Some(frame) = self.xr.begin_frame()? else {
             return Ok(false);
         };
+        // Whitecaps follow the viewer (the eyes' midpoint).
+        let viewer = (frame.views[0].position + frame.views[1].position) * 0.5;
+        self.sim.set_focus(viewer.x, viewer.z);
         if !self.started {
             self.sim.begin_step(frame.predicted_display_time);
             self.started = true;

@@ -9,7 +9,10 @@ use vr_ocean::lod::{LodSettings, OceanSize, QualityPreset};
 use vr_ocean::render::{
     ContextOptions, GpuContext, Msaa, RendererSettings, StereoMode, Validation,
 };
-use vr_ocean::sim::{FoamParams, GridSize, OceanConfig, SpectrumKind, WaveParams};
+use vr_ocean::sim::{
+    FoamParams, GridSize, OceanConfig, PatchFit, SpectrumKind, WaveParams, DEFAULT_FETCH_KM,
+    DEFAULT_GAMMA, DEFAULT_PATCH_SIZES,
+};
 
 #[derive(Clone, Copy, ValueEnum)]
 pub enum PresetArg {
@@ -31,8 +34,9 @@ pub struct OceanArgs {
     /// FFT grid side: a power of two from 16 to 1024.
     #[arg(long, allow_negative_numbers = true, default_value_t = 256)]
     pub grid: u32,
-    /// Patch size of each cascade in metres, coarsest first (1 to 4, comma-separated).
-    #[arg(long, allow_negative_numbers = true, value_delimiter = ',', default_values_t = [257.0, 69.5, 16.1])]
+    /// Patch size of each cascade in metres, coarsest first (1 to 4, comma-separated). Default:
+    /// 257,69.5,16.1 with the coarsest growing to 2.5 peak wavelengths in strong wind.
+    #[arg(long, allow_negative_numbers = true, value_delimiter = ',')]
     pub patch: Vec<f32>,
     /// Wind speed at 10 m (m/s).
     #[arg(long, allow_negative_numbers = true, default_value_t = 10.0)]
@@ -50,16 +54,16 @@ pub struct OceanArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub depth: Option<f32>,
     /// Wave spectrum.
-    #[arg(long, value_enum, default_value_t = SpectrumArg::Phillips)]
+    #[arg(long, value_enum, default_value_t = SpectrumArg::Jonswap)]
     pub spectrum: SpectrumArg,
     /// Phillips amplitude multiplier.
     #[arg(long, allow_negative_numbers = true, default_value_t = 1.0)]
     pub amplitude: f32,
     /// JONSWAP peak enhancement γ.
-    #[arg(long, allow_negative_numbers = true, default_value_t = 3.3)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = DEFAULT_GAMMA)]
     pub gamma: f32,
-    /// JONSWAP fetch (km).
-    #[arg(long, allow_negative_numbers = true, default_value_t = 100.0)]
+    /// JONSWAP fetch (km): how far the wind has blown over open water.
+    #[arg(long, allow_negative_numbers = true, default_value_t = DEFAULT_FETCH_KM)]
     pub fetch: f32,
     /// Small-wave suppression β in [0, 1].
     #[arg(long, allow_negative_numbers = true, default_value_t = 0.2)]
@@ -95,9 +99,20 @@ impl OceanArgs {
                 fetch_km: self.fetch,
             },
         };
-        let cfg = OceanConfig {
+        let (patch_sizes, patch_fit) = if self.patch.is_empty() {
+            (
+                DEFAULT_PATCH_SIZES.to_vec(),
+                PatchFit::GrowWithWind {
+                    min_coarsest: DEFAULT_PATCH_SIZES[0],
+                },
+            )
+        } else {
+            (self.patch.clone(), PatchFit::Fixed)
+        };
+        let mut cfg = OceanConfig {
             grid: GridSize::new(self.grid)?,
-            patch_sizes: self.patch.clone(),
+            patch_sizes,
+            patch_fit,
             waves: WaveParams {
                 spectrum,
                 wind_speed: self.wind,
@@ -117,6 +132,7 @@ impl OceanArgs {
             },
         };
         cfg.validate()?;
+        cfg.fit_patches();
         Ok(cfg)
     }
 }

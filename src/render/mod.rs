@@ -10,6 +10,8 @@
 //! - [`pipeline`]: the stereo render pass and the ocean and sky pipelines.
 //! - [`camera`]: reversed-Z projections and the uniform block.
 //! - [`ocean`]: the per-frame renderer.
+//! - [`sky`]: the analytic sky (Preetham) and its prefiltered environment map, baked on the
+//!   CPU when the sun changes.
 //! - [`readback`]: copies a rendered array image to the CPU (screenshots, tests).
 //! - [`shaders`]: SPIR-V compiled from `shaders/` by `build.rs`.
 
@@ -23,6 +25,7 @@ pub mod ocean;
 pub mod pipeline;
 pub mod readback;
 pub mod shaders;
+pub mod sky;
 
 pub use context::{
     ContextOptions, DirectVulkan, GpuContext, Validation, ValidationLog, VulkanFactory,

@@ -40,8 +40,12 @@ pub mod spectrum;
 pub mod step;
 pub mod surface;
 pub mod trig;
+pub mod whitecaps;
 pub mod workers;
 
 pub use grid::{AlignedBuf, GridSize, SplitField};
-pub use params::{FoamParams, OceanConfig, SpectrumKind, WaveParams};
+pub use params::{
+    FoamParams, OceanConfig, PatchFit, SpectrumKind, WaveParams, DEFAULT_FETCH_KM, DEFAULT_GAMMA,
+    DEFAULT_PATCH_SIZES,
+};
 pub use step::{SimCore, SimError, Simulation, StageTimes, Surfaces};

@@ -74,10 +74,20 @@ pub struct WaveParams {
     pub seed: u64,
 }
 
+/// The default fetch (km): open ocean, where a 10 m/s wind is fully developed and a gale still
+/// grows (issue 14: the sea a sailor would see).
+pub const DEFAULT_FETCH_KM: f32 = 300.0;
+
+/// The default JONSWAP peak enhancement (the JONSWAP mean).
+pub const DEFAULT_GAMMA: f32 = 3.3;
+
 impl Default for WaveParams {
     fn default() -> Self {
         Self {
-            spectrum: SpectrumKind::Phillips { amplitude: 1.0 },
+            spectrum: SpectrumKind::Jonswap {
+                gamma: DEFAULT_GAMMA,
+                fetch_km: DEFAULT_FETCH_KM,
+            },
             wind_speed: 10.0,
             wind_direction_deg: 0.0,
             alignment: 0.8,
@@ -92,6 +102,25 @@ impl Default for WaveParams {
     }
 }
 
+/// Peak wavelengths the coarsest patch holds when it grows with the wind: at two, its
+/// fundamental sits at half the peak wave number (ω ≈ 0.7 ω_p, where JONSWAP has e⁻⁵ of its
+/// peak density) and the energetic range is sampled by several modes.
+pub const PEAK_WAVELENGTHS_PER_PATCH: f32 = 2.5;
+
+/// How the coarsest cascade's patch follows the waves.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PatchFit {
+    /// The patch sizes exactly as given.
+    Fixed,
+    /// The coarsest patch is [`PEAK_WAVELENGTHS_PER_PATCH`] peak wavelengths of the wind sea,
+    /// never smaller than `min_coarsest` (m): a gale's 200 m waves fit in it, a breeze keeps
+    /// the default tiling.
+    GrowWithWind {
+        /// The coarsest patch for light winds (m).
+        min_coarsest: f32,
+    },
+}
+
 /// A complete simulation configuration: grid, cascade patch sizes, waves.
 #[derive(Clone, Debug, PartialEq)]
 pub struct OceanConfig {
@@ -99,9 +128,15 @@ pub struct OceanConfig {
     pub grid: GridSize,
     /// Patch size L (m) of each cascade, coarsest first; 1 to 4 entries, strictly decreasing.
     pub patch_sizes: Vec<f32>,
+    /// Whether the coarsest patch follows the wind ([`OceanConfig::fit_patches`]).
+    pub patch_fit: PatchFit,
     /// Wave conditions.
     pub waves: WaveParams,
 }
+
+/// The default cascades' patch sizes (m), coarsest first: non-integer ratios (≈3.7, ≈4.3) so
+/// their tilings never align.
+pub const DEFAULT_PATCH_SIZES: [f32; 3] = [257.0, 69.5, 16.1];
 
 impl OceanConfig {
     /// One cascade of side `patch` metres on an `n`-grid with default waves.
@@ -109,21 +144,44 @@ impl OceanConfig {
         let cfg = Self {
             grid: GridSize::new(n)?,
             patch_sizes: vec![patch],
+            patch_fit: PatchFit::Fixed,
             waves: WaveParams::default(),
         };
         cfg.validate()?;
         Ok(cfg)
     }
 
-    /// Default three cascades with non-integer ratios (≈3.7, ≈4.3) so their tilings never align.
+    /// The default three cascades ([`DEFAULT_PATCH_SIZES`]), the coarsest growing with the
+    /// wind ([`PatchFit::GrowWithWind`]).
     pub fn default_cascades(n: u32) -> Result<Self, ParamError> {
-        let cfg = Self {
+        let mut cfg = Self {
             grid: GridSize::new(n)?,
-            patch_sizes: vec![257.0, 69.5, 16.1],
+            patch_sizes: DEFAULT_PATCH_SIZES.to_vec(),
+            patch_fit: PatchFit::GrowWithWind {
+                min_coarsest: DEFAULT_PATCH_SIZES[0],
+            },
             waves: WaveParams::default(),
         };
+        cfg.fit_patches();
         cfg.validate()?;
         Ok(cfg)
+    }
+
+    /// Applies [`OceanConfig::patch_fit`] to the current waves: sets the coarsest patch and
+    /// returns true if it changed.
+    pub fn fit_patches(&mut self) -> bool {
+        let PatchFit::GrowWithWind { min_coarsest } = self.patch_fit else {
+            return false;
+        };
+        let fitted =
+            (PEAK_WAVELENGTHS_PER_PATCH * self.waves.peak_wavelength() as f32).max(min_coarsest);
+        // Whole decimetres, so a float's last bits never reshape the spectrum.
+        let wanted = (fitted * 10.0).ceil() / 10.0;
+        let changed = self.patch_sizes.first() != Some(&wanted);
+        if let Some(first) = self.patch_sizes.first_mut() {
+            *first = wanted;
+        }
+        changed
     }
 
     /// Checks every parameter; the first violation is returned naming it and its valid range.
@@ -174,6 +232,27 @@ impl OceanConfig {
 }
 
 impl WaveParams {
+    /// Deep-water wavelength (m) of the spectrum's energy peak: JONSWAP's 2πg/ω_p² (of the
+    /// normalised sea, [`crate::sim::spectrum::jonswap::JonswapSea`]), or for Phillips the
+    /// maximum of its k·P(k), k = √(2/3)·g/V².
+    pub fn peak_wavelength(&self) -> f64 {
+        let g = GRAVITY as f64;
+        let u = self.wind_speed as f64;
+        match self.spectrum {
+            SpectrumKind::Jonswap { gamma, fetch_km } => {
+                crate::sim::spectrum::jonswap::JonswapSea::new(
+                    self.wind_speed,
+                    fetch_km as f64 * 1000.0,
+                    gamma,
+                )
+                .peak_wavelength()
+            }
+            SpectrumKind::Phillips { .. } => {
+                std::f64::consts::TAU / ((2.0f64 / 3.0).sqrt() * g / (u * u))
+            }
+        }
+    }
+
     /// Checks every field; see [`OceanConfig::validate`].
     pub fn validate(&self) -> Result<(), ParamError> {
         positive("wind", self.wind_speed, "a finite wind speed > 0 (m/s)")?;

@@ -12,6 +12,7 @@ use crate::sim::params::{OceanConfig, WaveParams};
 use crate::sim::query;
 use crate::sim::spectrum::{cascade_bands, CascadeSpec, PackedSpectrum};
 use crate::sim::surface::{self, CascadeSurface, FloatCopies, SurfaceParams};
+use crate::sim::whitecaps::{WhitecapInput, WhitecapState, Whitecaps};
 
 /// One step's output for every cascade, coarsest first.
 pub struct Surfaces {
@@ -24,6 +25,8 @@ pub struct Surfaces {
     /// Length of the level-0 normals (eq. 49 of the material roughness): the renderer's
     /// specular anti-aliasing counts only the shortening beyond it, which is filtering.
     pub base_normal_length: f32,
+    /// Foam coverage of the whole surface around the viewer ([`crate::sim::whitecaps`]).
+    pub whitecaps: Whitecaps,
 }
 
 impl Surfaces {
@@ -47,6 +50,7 @@ impl Surfaces {
                 .collect(),
             unresolved_slope_variance: 0.0,
             base_normal_length: 1.0,
+            whitecaps: Whitecaps::default(),
         }
     }
 
@@ -84,12 +88,14 @@ pub struct StageTimes {
     pub fft: Duration,
     /// Stages 5-6+: displacement, normals, Jacobian, foam, packing and mips.
     pub surface: Duration,
+    /// Whitecaps of the whole surface ([`crate::sim::whitecaps`]).
+    pub whitecaps: Duration,
 }
 
 impl StageTimes {
     /// Sum of all stages.
     pub fn total(&self) -> Duration {
-        self.evolve + self.fft + self.surface
+        self.evolve + self.fft + self.surface + self.whitecaps
     }
 }
 
@@ -123,6 +129,8 @@ pub struct SimCore {
     /// scratch per thread made 2 threads only 1.47× faster than 1 at N = 512; one shared
     /// scratch, 1.79×.)
     scratch: Vec<SplitField>,
+    whitecaps: WhitecapState,
+    focus: [f32; 2],
     last_time: Option<f64>,
     timings: StageTimes,
 }
@@ -167,6 +175,8 @@ impl SimCore {
             scratch: (0..scratch_fields(grid))
                 .map(|_| SplitField::zeros(grid))
                 .collect(),
+            whitecaps: WhitecapState::default(),
+            focus: [0.0; 2],
             last_time: None,
             timings: StageTimes::default(),
         })
@@ -188,18 +198,38 @@ impl SimCore {
     }
 
     /// Changes the waves. Re-runs stage 1 only when something that shapes the spectrum changed;
-    /// choppiness, roughness and foam take effect at the next step for free.
+    /// choppiness, roughness and foam take effect at the next step for free. With
+    /// [`crate::sim::PatchFit::GrowWithWind`] the coarsest patch follows the new wind (the
+    /// surfaces of the next step carry it to the renderer and the height queries).
     pub fn set_waves(&mut self, waves: WaveParams) -> Result<(), ParamError> {
         waves.validate()?;
+        let mut config = OceanConfig {
+            waves,
+            ..self.config.clone()
+        };
+        let refit = config.fit_patches();
+        config.validate()?;
         let old = self.config.waves;
-        self.config.waves = waves;
+        self.config = config;
         let reshaped = WaveParams {
             choppiness: old.choppiness,
             roughness: old.roughness,
             foam: old.foam,
             ..waves
         } != old;
-        if reshaped {
+        if refit {
+            let bands = cascade_bands(&self.config.patch_sizes, self.config.grid);
+            for ((c, &patch), band) in self
+                .cascades
+                .iter_mut()
+                .zip(&self.config.patch_sizes)
+                .zip(bands)
+            {
+                c.spec.patch = patch;
+                c.spec.band = band;
+            }
+        }
+        if reshaped || refit {
             for c in &mut self.cascades {
                 c.spectrum = PackedSpectrum::generate(&waves, &c.spec);
             }
@@ -232,6 +262,7 @@ impl SimCore {
         out.base_normal_length = crate::sim::pack::normal_length(waves.roughness);
         let mut times = StageTimes::default();
         for (c, surface) in self.cascades.iter_mut().zip(&mut out.cascades) {
+            surface.patch = c.spec.patch;
             let t0 = Instant::now();
             evolve::evolve(&c.spectrum, c.spec.patch, phase, &mut c.fields);
             let t1 = Instant::now();
@@ -243,7 +274,24 @@ impl SimCore {
             times.fft += t2 - t1;
             times.surface += t3 - t2;
         }
+        let t4 = Instant::now();
+        let input = WhitecapInput {
+            cascades: &out.cascades,
+            focus: self.focus,
+            foam: waves.foam,
+            wind_speed: waves.wind_speed,
+            dt,
+        };
+        self.whitecaps.update(input, &mut out.whitecaps);
+        times.whitecaps = t4.elapsed();
         self.timings = times;
+    }
+
+    /// Centres the whitecap maps on the viewer at world (x, z) from the next step on.
+    pub fn set_focus(&mut self, x: f32, z: f32) {
+        if x.is_finite() && z.is_finite() {
+            self.focus = [x, z];
+        }
     }
 
     /// Stage times of the last [`SimCore::step`].
@@ -271,6 +319,8 @@ struct Slot {
     done: Option<Surfaces>,
     /// New waves to apply before the next step.
     waves: Option<WaveParams>,
+    /// Where the viewer is (world x, z), for the whitecap maps.
+    focus: [f32; 2],
     /// Wall time of the last finished step on the worker.
     last_step: Duration,
     shutdown: bool,
@@ -412,9 +462,21 @@ impl Simulation {
     /// worker if the spectrum changed).
     pub fn set_waves(&mut self, waves: WaveParams) -> Result<(), ParamError> {
         waves.validate()?;
-        self.config.waves = waves;
+        let mut config = OceanConfig {
+            waves,
+            ..self.config.clone()
+        };
+        config.fit_patches();
+        config.validate()?;
+        self.config = config;
         self.shared.lock().waves = Some(waves);
         Ok(())
+    }
+
+    /// Centres the whitecap maps on the viewer at world (x, z) from the next step on
+    /// (non-finite positions are ignored).
+    pub fn set_focus(&mut self, x: f32, z: f32) {
+        self.shared.lock().focus = [x, z];
     }
 
     /// Starts computing time `t` (s) in the background. If a step is already running, waits
@@ -486,7 +548,9 @@ fn worker_loop(core: &mut SimCore, shared: &Shared) {
             continue;
         };
         let waves = slot.waves.take();
+        let focus = slot.focus;
         drop(slot);
+        core.set_focus(focus[0], focus[1]);
         if let Some(w) = waves {
             // Already validated by `Simulation::set_waves`.
             let _ = core.set_waves(w);

@@ -21,13 +21,13 @@ use crate::sim::{pack, OceanConfig};
 /// wide); mirrored in `shaders/ocean.frag`.
 pub const MIN_ROUGHNESS: f32 = 0.06;
 
-/// What the pass's uniforms take from the configuration, fixed at creation.
+/// What the pass's uniforms take from the configuration, fixed at creation. The patch sizes
+/// are not: they come with each step's surfaces (the coarsest follows the wind).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct PassConstants {
     grid: u32,
     cascades: usize,
-    patch_sizes: [f32; 4],
-    fade: [[f32; 4]; 2],
+    lod: LodSettings,
     /// Vertices per patch side (V + 1 in the thesis's terms: the push constant `grid_v`).
     pub vertices_per_side: u32,
 }
@@ -35,14 +35,10 @@ pub(super) struct PassConstants {
 impl PassConstants {
     /// For `config`'s cascades drawn on the LOD of `lod`.
     pub fn new(config: &OceanConfig, lod: &LodSettings) -> Self {
-        let cascades = config.patch_sizes.len();
-        let mut patch_sizes = [1.0; 4];
-        patch_sizes[..cascades].copy_from_slice(&config.patch_sizes);
         Self {
             grid: config.grid.n() as u32,
-            cascades,
-            patch_sizes,
-            fade: cascade_fades(lod, &patch_sizes[..cascades]),
+            cascades: config.patch_sizes.len(),
+            lod: *lod,
             vertices_per_side: lod.vertices(),
         }
     }
@@ -57,9 +53,14 @@ impl PassConstants {
             .sun_direction
             .extend(settings.sun_intensity)
             .to_array();
-        g.patch_size = self.patch_sizes;
-        g.fade_start = self.fade[0];
-        g.fade_end = self.fade[1];
+        let mut patch_sizes = [1.0; 4];
+        for (p, c) in patch_sizes.iter_mut().zip(&input.surfaces.cascades) {
+            *p = c.patch;
+        }
+        let fade = cascade_fades(&self.lod, &patch_sizes[..self.cascades]);
+        g.patch_size = patch_sizes;
+        g.fade_start = fade[0];
+        g.fade_end = fade[1];
         g.params = [
             self.cascades as f32,
             self.grid as f32,

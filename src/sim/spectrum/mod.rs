@@ -73,10 +73,50 @@ pub struct CascadeSpec {
     pub grid: GridSize,
 }
 
+/// What every mode of a spectrum shares, computed once per spectrum (not per mode): the wind's
+/// direction, the spreading exponent, and for JONSWAP the sea ([`jonswap::JonswapSea`]).
+#[derive(Clone, Copy, Debug)]
+pub struct SpectrumModel {
+    waves: WaveParams,
+    dir_cos: f64,
+    dir_sin: f64,
+    spread: f64,
+    counter: f64,
+    sea: Option<jonswap::JonswapSea>,
+}
+
+impl SpectrumModel {
+    /// The model of `waves`.
+    pub fn new(waves: &WaveParams) -> Self {
+        let dir = (waves.wind_direction_deg as f64).to_radians();
+        let sea = match waves.spectrum {
+            SpectrumKind::Phillips { .. } => None,
+            SpectrumKind::Jonswap { gamma, fetch_km } => Some(jonswap::JonswapSea::new(
+                waves.wind_speed,
+                fetch_km as f64 * 1000.0,
+                gamma,
+            )),
+        };
+        Self {
+            waves: *waves,
+            dir_cos: libm::cos(dir),
+            dir_sin: libm::sin(dir),
+            spread: phillips::spreading_exponent(waves.alignment),
+            counter: phillips::counter_wave_factor(waves.alignment),
+            sea,
+        }
+    }
+
+    /// The JONSWAP sea, if that is the spectrum.
+    pub fn sea(&self) -> Option<&jonswap::JonswapSea> {
+        self.sea.as_ref()
+    }
+}
+
 /// Expected mode power E|h₀(k)|² (m²) for texel (`col`, `row`); the h₀ of eq. 13 is ξ/√2·√power.
 /// Zero at DC (eq. 14), on the Nyquist row and column (which have no Hermitian partner on the
 /// grid) and outside the cascade's band.
-pub fn mode_power(waves: &WaveParams, c: &CascadeSpec, col: usize, row: usize) -> f64 {
+pub fn mode_power(model: &SpectrumModel, c: &CascadeSpec, col: usize, row: usize) -> f64 {
     if col == 0 || row == 0 {
         return 0.0;
     }
@@ -85,34 +125,39 @@ pub fn mode_power(waves: &WaveParams, c: &CascadeSpec, col: usize, row: usize) -
     if k == 0.0 || !c.band.contains(k) {
         return 0.0;
     }
-    power_at(waves, c, kx, kz, k)
+    power_at(model, c, kx, kz, k)
 }
 
 /// Expected power E|h₀(k)|² (m²) a mode of cascade `c` at wave vector (`kx`, `kz`) of length
 /// `k` (positive) would have on that cascade's grid (band not checked): [`mode_power`]'s
 /// physics, also for wave numbers no grid holds (the unresolved tail).
-pub fn power_at(waves: &WaveParams, c: &CascadeSpec, kx: f64, kz: f64, k: f64) -> f64 {
-    let dir = (waves.wind_direction_deg as f64).to_radians();
-    let cos_theta = (kx * dir.cos() + kz * dir.sin()) / k;
-    let s = phillips::spreading_exponent(waves.alignment);
-    let counter = phillips::counter_wave_factor(waves.alignment);
+pub fn power_at(model: &SpectrumModel, c: &CascadeSpec, kx: f64, kz: f64, k: f64) -> f64 {
+    let waves = &model.waves;
+    let cos_theta = (kx * model.dir_cos + kz * model.dir_sin) / k;
+    let s = model.spread;
+    let counter = model.counter;
     let against = if cos_theta < 0.0 { counter } else { 1.0 };
     let cutoff = phillips::cutoff_length(c.patch, waves.small_wave_suppression);
     let suppress = phillips::small_wave_factor(k, cutoff);
-    let power = match waves.spectrum {
-        SpectrumKind::Phillips { amplitude } => {
-            let a = phillips::normalization(amplitude, c.grid.n(), c.patch);
-            phillips::power(a, k, cos_theta, waves.wind_speed, s)
-        }
-        SpectrumKind::Jonswap { gamma, fetch_km } => {
+    let power = match (waves.spectrum, model.sea.as_ref()) {
+        (SpectrumKind::Jonswap { .. }, Some(sea)) => {
             let w = dispersion::omega(k, waves.depth);
-            let s_w = jonswap::density(w, waves.wind_speed, fetch_km as f64 * 1000.0, gamma);
+            let mut s_w = sea.density(w);
+            if let Some(d) = waves.depth {
+                s_w *= jonswap::depth_factor(w, d as f64);
+            }
             let f_k = s_w * dispersion::domega_dk(k, waves.depth);
             let spread = libm::pow(cos_theta.abs(), 2.0 * s) / jonswap::spreading_norm(s, counter);
             let dk = std::f64::consts::TAU / c.patch as f64;
             // F(kx, kz) = F(k)·D(θ)/k; half the cell's variance goes to each of h₀(k), h₀(−k).
             0.5 * f_k * spread / k * dk * dk
         }
+        (SpectrumKind::Phillips { amplitude }, _) => {
+            let a = phillips::normalization(amplitude, c.grid.n(), c.patch);
+            phillips::power(a, k, cos_theta, waves.wind_speed, s)
+        }
+        // A model always carries its JONSWAP sea.
+        (SpectrumKind::Jonswap { .. }, None) => 0.0,
     };
     power * against * suppress
 }
@@ -135,14 +180,14 @@ pub const CAPILLARY_K: f64 = 370.0;
 
 /// The slope variances of cascade `c` (see [`SlopeVariance`]). The tail is integrated on a
 /// polar grid, log-spaced in |k|: it runs when the waves change, never per frame.
-pub fn slope_variance(waves: &WaveParams, c: &CascadeSpec) -> SlopeVariance {
+pub fn slope_variance(model: &SpectrumModel, c: &CascadeSpec) -> SlopeVariance {
     let n = c.grid.n();
     let resolved = (0..n * n)
         .map(|i| {
             let (col, row) = (i % n, i / n);
             let (kx, kz) = wave_vector(col, row, c.grid, c.patch);
             // Both h̃(k) and h̃(−k) carry E|h₀|²: 2·P per mode, times k².
-            2.0 * mode_power(waves, c, col, row) * (kx * kx + kz * kz)
+            2.0 * mode_power(model, c, col, row) * (kx * kx + kz * kz)
         })
         .sum();
     let nyquist = std::f64::consts::PI * n as f64 / c.patch as f64;
@@ -166,7 +211,7 @@ pub fn slope_variance(waves: &WaveParams, c: &CascadeSpec) -> SlopeVariance {
                 let (kx, kz) = (k * th.cos(), k * th.sin());
                 // A polar cell of area k·Δk·Δθ holds that many grid modes of spacing 2π/L.
                 let modes = k * (k1 - k0) * dtheta / (dk_grid * dk_grid);
-                sum += 2.0 * power_at(waves, c, kx, kz, k) * k * k * modes;
+                sum += 2.0 * power_at(model, c, kx, kz, k) * k * k * modes;
             }
         }
         sum
@@ -208,8 +253,9 @@ impl PackedSpectrum {
             expected_variance: 0.0,
             slopes: SlopeVariance::default(),
         };
+        let model = SpectrumModel::new(waves);
         let h0 = |col: usize, row: usize| -> (f64, f64) {
-            let p = mode_power(waves, c, col, row);
+            let p = mode_power(&model, c, col, row);
             if p == 0.0 {
                 return (0.0, 0.0);
             }
@@ -248,9 +294,9 @@ impl PackedSpectrum {
         // Σ_k (P(k) + P(−k)) = 2·Σ_k P(k), since k ↦ −k permutes the grid.
         out.expected_variance = 2.0
             * (0..n * n)
-                .map(|i| mode_power(waves, c, i % n, i / n))
+                .map(|i| mode_power(&model, c, i % n, i / n))
                 .sum::<f64>();
-        out.slopes = slope_variance(waves, c);
+        out.slopes = slope_variance(&model, c);
         out
     }
 }
@@ -340,12 +386,10 @@ mod tests {
         }
     }
 
-    /// Bit-exact fingerprint of h₀ for a fixed seed: the same on x86-64 and aarch64 (this test
-    /// runs on both in CI), because the draws use integer hashing and software `libm`.
-    #[test]
-    fn spectrum_fingerprint_is_platform_independent() {
+    fn fingerprint(spectrum: SpectrumKind) -> u64 {
         let mut cfg = OceanConfig::single(32, 40.0).unwrap();
         cfg.waves.seed = 42;
+        cfg.waves.spectrum = spectrum;
         let s = PackedSpectrum::generate(&cfg.waves, &spec(&cfg, 0));
         let mut h: u64 = 0xcbf2_9ce4_8422_2325;
         for c in 0..4 {
@@ -353,9 +397,30 @@ mod tests {
                 h = (h ^ v.to_bits() as u64).wrapping_mul(0x100_0000_01b3);
             }
         }
-        assert_eq!(h, SPECTRUM_FINGERPRINT, "fingerprint {h:#x}");
+        h
+    }
+
+    /// Bit-exact fingerprints of h₀ for a fixed seed: the same on x86-64 and aarch64 (this
+    /// test runs on both in CI), because the draws use integer hashing and software `libm`.
+    #[test]
+    fn spectrum_fingerprint_is_platform_independent() {
+        let phillips = fingerprint(SpectrumKind::Phillips { amplitude: 1.0 });
+        assert_eq!(
+            phillips, SPECTRUM_FINGERPRINT,
+            "Phillips fingerprint {phillips:#x}"
+        );
+        let jonswap = fingerprint(SpectrumKind::Jonswap {
+            gamma: 3.3,
+            fetch_km: 300.0,
+        });
+        assert_eq!(
+            jonswap, JONSWAP_FINGERPRINT,
+            "JONSWAP fingerprint {jonswap:#x}"
+        );
     }
 
     /// Recorded from the first run on x86-64; aarch64 must reproduce it bit for bit.
     const SPECTRUM_FINGERPRINT: u64 = 0x665d_2cba_dfc5_7aad;
+    /// The same for the default JONSWAP sea (300 km fetch).
+    const JONSWAP_FINGERPRINT: u64 = 0x0b66_a113_d95d_63e5;
 }

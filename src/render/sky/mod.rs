@@ -1,0 +1,223 @@
+//! The analytic sky: Preetham 1999 sky radiance, an attenuated sun disc and a GGX-prefiltered
+//! equirectangular environment map of the upper hemisphere, all baked on the CPU when the sun
+//! or the turbidity changes (never per frame). Pure math: no Vulkan here; the renderer uploads
+//! [`EnvMap`]'s levels as a mip chain.
+//!
+//! Conventions: y up; the sun's azimuth is in degrees from +x toward +z (the wind direction's
+//! convention), so the sun at elevation e, azimuth a lies along (cos e cos a, sin e, cos e sin a).
+//! Units are photometric and absolute: radiance (luminance per channel) in kcd/m², illuminance in
+//! klux, colours in linear Rec.709/sRGB primaries (D65 white), luminance = 0.2126 R + 0.7152 G +
+//! 0.0722 B. [`exposure`] turns them into the ~[0, 1] range a tonemapper expects.
+//!
+//! - [`preetham`]: [`Sky`], the sky's radiance and the sun's, precomputed per [`SunSky`].
+//! - [`bake`]: [`EnvMap`], its (u, v) mapping and the GGX prefilter.
+
+pub mod bake;
+pub mod preetham;
+
+pub use bake::{bake, bake_into, direction, uv, EnvMap, PREFILTER_SAMPLES};
+pub use preetham::{Sky, LUMINANCE};
+
+use glam::Vec3;
+
+use crate::base::ParamError;
+
+/// The sun's angular radius (degrees): half its mean apparent diameter of 0.533°.
+pub const SUN_ANGULAR_RADIUS_DEG: f32 = 0.2665;
+
+/// The sun disc's solid angle (sr): 2π(1 − cos r) for r = [`SUN_ANGULAR_RADIUS_DEG`].
+pub const SUN_SOLID_ANGLE: f32 = 6.7966e-5;
+
+/// Lowest sun elevation accepted (degrees): a little below the horizon, for dusk.
+pub const MIN_SUN_ELEVATION_DEG: f32 = -10.0;
+
+/// Turbidity range accepted: 1.7 (very clear, near Preetham's validity limit) to 10 (hazy).
+pub const TURBIDITY_RANGE: [f32; 2] = [1.7, 10.0];
+
+/// Film speed of the exposure model (ISO 100, hence EV100).
+const ISO: f32 = 100.0;
+
+/// Incident-light meter calibration constant C for a flat receptor (lux·s; ISO 2720 allows
+/// 240 to 400): EV100 = log2(E · S / C) puts a mid-grey card at the meter's grey.
+const INCIDENT_METER_C: f32 = 250.0;
+
+/// Saturation-based speed factor 78 / (0.65 · 100) = 1.2 (Frostbite's exposure): a scene
+/// luminance of 1.2 · 2^EV100 cd/m² saturates the sensor.
+const SATURATION_FACTOR: f32 = 1.2;
+
+/// Darkest EV100 the auto exposure goes to, about a bright sunset. Below it the scene dims
+/// instead of being pushed up to daylight brightness in twilight.
+pub const EV100_MIN: f32 = 6.0;
+
+/// Where the sun is and how hazy the air is: everything the sky depends on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SunSky {
+    /// Sun elevation above the horizon (degrees, in [-10, 90]; below 0 is twilight).
+    pub elevation_deg: f32,
+    /// Sun azimuth (degrees from +x toward +z, any finite value).
+    pub azimuth_deg: f32,
+    /// Atmospheric turbidity T in [1.7, 10] (2–3: clear maritime air; 10: haze).
+    pub turbidity: f32,
+}
+
+impl Default for SunSky {
+    /// A clear afternoon: sun 35° high along +x, T = 2.5.
+    fn default() -> Self {
+        Self {
+            elevation_deg: 35.0,
+            azimuth_deg: 0.0,
+            turbidity: 2.5,
+        }
+    }
+}
+
+impl SunSky {
+    /// Checks every field against its range; the error names the CLI flag.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        let e = self.elevation_deg;
+        if !(MIN_SUN_ELEVATION_DEG..=90.0).contains(&e) {
+            return Err(ParamError::new(
+                "sun-elevation",
+                e as f64,
+                "degrees in [-10, 90]",
+            ));
+        }
+        if !self.azimuth_deg.is_finite() {
+            return Err(ParamError::new(
+                "sun-azimuth",
+                self.azimuth_deg as f64,
+                "a finite angle (degrees)",
+            ));
+        }
+        let t = self.turbidity;
+        if !(TURBIDITY_RANGE[0]..=TURBIDITY_RANGE[1]).contains(&t) {
+            return Err(ParamError::new(
+                "turbidity",
+                t as f64,
+                "a number in [1.7, 10]",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Unit vector toward the sun's centre: (cos e cos a, sin e, cos e sin a).
+    pub fn sun_direction(&self) -> Vec3 {
+        direction_at(self.elevation_deg, self.azimuth_deg)
+    }
+}
+
+/// Unit vector at `elevation_deg` above the horizon and `azimuth_deg` from +x toward +z.
+fn direction_at(elevation_deg: f32, azimuth_deg: f32) -> Vec3 {
+    let (se, ce) = elevation_deg.to_radians().sin_cos();
+    let (sa, ca) = azimuth_deg.to_radians().sin_cos();
+    Vec3::new(ce * ca, se, ce * sa)
+}
+
+/// Suggested EV100 for the scene, from an incident-light reading of the horizontal illuminance
+/// of sun plus sky: EV100 = log2(E[lux] · S / C), S = 100, C = 250, not below [`EV100_MIN`].
+/// Sun 60° high at T = 2.5: E ≈ 110 klux, EV100 ≈ 15.4, the "sunny 16" value.
+pub fn ev100(sky: &Sky) -> f32 {
+    let e_lux = 1000.0 * sky.horizontal_illuminance();
+    (e_lux.max(f32::MIN_POSITIVE) * ISO / INCIDENT_METER_C)
+        .log2()
+        .max(EV100_MIN)
+}
+
+/// Multiplier from this module's kcd/m² to the tonemapper's input, where 1.0 is the luminance
+/// that saturates a camera exposed at [`ev100`] (Frostbite's convention, per cd/m²
+/// 1 / (1.2 · 2^EV100)): exposure = 1000 / (1.2 · 2^EV100) per kcd/m².
+///
+/// Mid-grey (18 % under the metered light) then lands near 0.12, a white Lambertian surface
+/// under sun plus sky near 0.66 and the 60° zenith sky (8 kcd/m²) near 0.15: inside the linear
+/// part of PBR Neutral (below 0.76), with the sun's glint far above it.
+pub fn exposure(sky: &Sky) -> f32 {
+    1000.0 / (SATURATION_FACTOR * ev100(sky).exp2())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sun(elevation_deg: f32) -> SunSky {
+        SunSky {
+            elevation_deg,
+            ..SunSky::default()
+        }
+    }
+
+    #[test]
+    fn validate_names_the_flag() {
+        assert!(SunSky::default().validate().is_ok());
+        assert!(sun(-10.0).validate().is_ok() && sun(90.0).validate().is_ok());
+        for (bad, name) in [
+            (sun(-10.5), "sun-elevation"),
+            (sun(90.5), "sun-elevation"),
+            (sun(f32::NAN), "sun-elevation"),
+            (
+                SunSky {
+                    azimuth_deg: f32::INFINITY,
+                    ..SunSky::default()
+                },
+                "sun-azimuth",
+            ),
+            (
+                SunSky {
+                    turbidity: 1.6,
+                    ..SunSky::default()
+                },
+                "turbidity",
+            ),
+            (
+                SunSky {
+                    turbidity: f32::NAN,
+                    ..SunSky::default()
+                },
+                "turbidity",
+            ),
+        ] {
+            assert_eq!(bad.validate().unwrap_err().parameter, name, "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn sun_direction_follows_the_wind_convention() {
+        let d = |e, a| {
+            SunSky {
+                elevation_deg: e,
+                azimuth_deg: a,
+                turbidity: 2.5,
+            }
+            .sun_direction()
+        };
+        assert!(d(0.0, 0.0).abs_diff_eq(Vec3::X, 1e-6));
+        assert!(d(0.0, 90.0).abs_diff_eq(Vec3::Z, 1e-6));
+        assert!(d(90.0, 37.0).abs_diff_eq(Vec3::Y, 1e-6));
+        let v = d(30.0, 200.0);
+        assert!((v.length() - 1.0).abs() < 1e-6 && (v.y - 0.5).abs() < 1e-6);
+    }
+
+    #[test]
+    fn solid_angle_matches_the_radius() {
+        let r = (SUN_ANGULAR_RADIUS_DEG as f64).to_radians();
+        let omega = 2.0 * std::f64::consts::PI * (1.0 - r.cos());
+        assert!(
+            (SUN_SOLID_ANGLE as f64 / omega - 1.0).abs() < 1e-4,
+            "{omega}"
+        );
+    }
+
+    #[test]
+    fn exposure_is_sunny_16_at_high_sun_and_brightens_at_dusk() {
+        let high = Sky::new(&sun(60.0));
+        let (ev, k) = (ev100(&high), exposure(&high));
+        println!("sun 60°: EV100 {ev:.2}, exposure {k:.4} per kcd/m²");
+        assert!((14.5..16.0).contains(&ev), "{ev}");
+        // The 60° zenith sky lands in the tonemapper's linear range.
+        let zenith = LUMINANCE.dot(high.radiance(Vec3::Y)) * k;
+        assert!((0.08..0.3).contains(&zenith), "{zenith}");
+        let low = Sky::new(&sun(5.0));
+        assert!(exposure(&low) > k);
+        let night = Sky::new(&sun(-10.0));
+        assert_eq!(ev100(&night), EV100_MIN);
+    }
+}
