@@ -25,6 +25,9 @@ layout(set = 0, binding = 0, std140) uniform Globals {
     // y: 1 = on; z: Toksvig variance of level-0 normals (the material's); w: GGX alpha^2 of
     // level-0 smoothness.
     vec4 specular_aa;
+    // Per whitecap level (`sim::whitecaps`): the window's centre x, z (m), the lattice spacing
+    // (m) and the level's mean coverage (negative: whitecaps off).
+    vec4 whitecaps[2];
 } g;
 
 const float PI = 3.14159265;

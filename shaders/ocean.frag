@@ -17,6 +17,8 @@
 #include "common.glsl"
 
 layout(set = 0, binding = 2) uniform sampler2DArray u_normal_foam;
+// Whitecap coverage of the whole surface, one layer per level, toroidal (`sim::whitecaps`).
+layout(set = 0, binding = 3) uniform sampler2DArray u_whitecaps;
 
 layout(location = 0) in vec3 v_world;
 layout(location = 1) in vec2 v_xz;
@@ -35,6 +37,67 @@ const vec2 SUBSAMPLES[4] = vec2[4](
     vec2(-0.125, -0.375), vec2(0.375, -0.125), vec2(0.125, 0.375), vec2(-0.375, 0.125));
 // Mip level of the finest cascade above which a pixel is supersampled.
 const float SUPERSAMPLE_FROM_LOD = 0.5;
+
+// Texels per side of a whitecap level (`sim::whitecaps::WHITECAP_TEXELS`).
+const float WHITECAP_TEXELS = 256.0;
+// Size (m) of the foam pattern's cells: whitecap patches and streaks of a few metres.
+const float FOAM_CELL = 0.9;
+
+// The whitecap coverage at rest position `xz`: the fine level inside its window, fading to
+// the coarse level toward its edge, and beyond both to the coarse level's mean. Sampled with
+// the pixel's footprint (`dx`, `dy`), so the mips give the area's coverage far away.
+float whitecap_coverage(vec2 xz, vec2 dx, vec2 dy) {
+    float cover = g.whitecaps[1].w;
+    for (int l = 1; l >= 0; --l) {
+        vec4 level = g.whitecaps[l];
+        float side = level.z * WHITECAP_TEXELS;
+        vec2 uv = xz / side + 0.5 / WHITECAP_TEXELS;
+        float c = textureGrad(u_whitecaps, vec3(uv, float(l)), dx / side, dy / side).r;
+        vec2 d = abs(xz - level.xy) / (0.5 * side);
+        cover = mix(cover, c, 1.0 - smoothstep(0.8, 0.95, max(d.x, d.y)));
+    }
+    return cover;
+}
+
+// Smooth value noise in [0, 1] over cells of unit size.
+float hash(vec2 p) {
+    p = fract(p * vec2(0.1031, 0.1030));
+    p += dot(p, p.yx + 33.33);
+    return fract((p.x + p.y) * p.x);
+}
+float value_noise(vec2 p) {
+    vec2 i = floor(p);
+    vec2 f = p - i;
+    vec2 u = f * f * (3.0 - 2.0 * f);
+    float a = hash(i), b = hash(i + vec2(1.0, 0.0));
+    float c = hash(i + vec2(0.0, 1.0)), d = hash(i + vec2(1.0, 1.0));
+    return mix(mix(a, b, u.x), mix(c, d, u.x), u.y);
+}
+
+// Foam seen at `xz`: coverage c thresholds a two-octave pattern (about a share c of the
+// surface turns white: patches, not a grey veil); where the footprint outgrows the pattern's
+// cells the pattern would alias, so the coverage itself (its area mean) is shown.
+float whitecap_foam(vec2 xz, vec2 dx, vec2 dy) {
+    float c = whitecap_coverage(xz, dx, dy);
+    vec2 p = xz / FOAM_CELL;
+    float n = 0.55 * value_noise(p) + 0.3 * value_noise(p * 2.3 + 17.0)
+            + 0.15 * value_noise(p * 5.1 - 9.0);
+    // The sum clusters around ½; stretched toward a uniform spread.
+    n = clamp(0.5 + 2.2 * (n - 0.5), 0.0, 1.0);
+    // About a share c of the surface turns white: the pattern's highest values, so patches
+    // grow and merge where the coverage is high and thin to flecks where it is low (the
+    // stretched pattern reaches 1 often: none at all where there is no coverage).
+    float pattern = smoothstep(1.0 - c - 0.05, 1.0 - c + 0.05, n) * min(8.0 * c, 1.0);
+    // Thicker toward a patch's heart, thin and broken at its edges.
+    pattern *= 0.7 + 0.3 * value_noise(p * 7.3 + 3.0);
+    float footprint = max(length(dx), length(dy)) / FOAM_CELL;
+    return clamp(mix(pattern, c, clamp(2.0 * footprint - 0.5, 0.0, 1.0)), 0.0, 1.0);
+}
+
+// Adds whitecaps `caps` to a cascade foam coverage (independent coverages).
+float with_caps(float foam, float caps) {
+    return 1.0 - (1.0 - foam) * (1.0 - caps);
+}
 
 // The averaged normal's length a smoothness encodes: eq. 53 inverted.
 float normal_length(float smoothness) {
@@ -128,6 +191,8 @@ void main() {
 
     // Everything that takes implicit derivatives happens here, in uniform control flow.
     Water w = water_at(v_xz, dx, dy, true);
+    float caps = g.whitecaps[1].w < 0.0 ? 0.0 : whitecap_foam(v_xz, dx, dy);
+    w.foam = with_caps(w.foam, caps);
     vec3 dndx = dFdx(w.n);
     vec3 dndy = dFdy(w.n);
     int cascades = int(g.params.x);
@@ -154,6 +219,7 @@ void main() {
             for (int i = 0; i < 4; ++i) {
                 vec2 xz = v_xz + SUBSAMPLES[i].x * dx + SUBSAMPLES[i].y * dy;
                 Water s = water_at(xz, hx, hy, false);
+                s.foam = with_caps(s.foam, caps);
                 colour += shade(s, v, s.filtered + sub_tail + kernel / 9.0);
             }
             colour *= 0.25;

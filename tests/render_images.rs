@@ -109,6 +109,9 @@ fn eyes_differ_by_the_parallax_their_poses_predict() {
     let mut opts = gpu::small_options(StereoMode::TwoPass, vec![8]);
     opts.ocean.waves.wind_speed = 5.0;
     opts.ocean.waves.choppiness = 0.0;
+    // The thesis's Phillips sea: at 5 m/s its waves are lower than a fetch-limited JONSWAP
+    // sea's (Hs 0.54 m), whose long swell moves the surface by a third of the 1.7 m depth.
+    opts.ocean.waves.spectrum = vr_ocean::sim::SpectrumKind::Phillips { amplitude: 1.0 };
     let (_, frames) = gpu::render(&opts, path, 9, 480, 480);
     let f = &frames[0];
     eprintln!("saved {}", f.save("parallax").display());
@@ -220,4 +223,70 @@ fn multiview_matches_the_two_pass_fallback_with_half_the_draws() {
             );
         }
     }
+}
+
+/// Share of the water's pixels (the lower 60 % of both eyes, looking 20 degrees down: the sea
+/// from about 5 to 40 m) at least 40 codes brighter (sum of RGB) in `with` than in `without`.
+fn whitened_share(with: &Frame, without: &Frame) -> f64 {
+    let (mut n, mut whiter) = (0usize, 0usize);
+    for eye in 0..2 {
+        for y in 2 * with.height / 5..with.height {
+            for x in 0..with.width {
+                let sum = |f: &Frame| {
+                    f.pixel(eye, x, y)[..3]
+                        .iter()
+                        .map(|&c| c as i32)
+                        .sum::<i32>()
+                };
+                n += 1;
+                if sum(with) >= sum(without) + 40 {
+                    whiter += 1;
+                }
+            }
+        }
+    }
+    whiter as f64 / n as f64
+}
+
+#[test]
+fn whitecaps_whiten_a_gale_and_spare_a_breeze() {
+    let frames = 160; // 2.2 s at 72 Hz: foam builds up over about two seconds
+    let mut shares = Vec::new();
+    for wind in [8.0, 18.0] {
+        let mut shots = Vec::new();
+        for whitecaps in [true, false] {
+            let mut opts = gpu::small_options(StereoMode::Multiview, vec![frames - 1]);
+            opts.ocean = vr_ocean::sim::OceanConfig::default_cascades(256).unwrap();
+            opts.ocean.waves.wind_speed = wind;
+            opts.ocean.fit_patches();
+            opts.renderer.whitecaps = whitecaps;
+            // Standing 3 m above the sea, the sun behind, looking 20 degrees down.
+            let path = gpu::standing(3.0, 180.0, -20.0);
+            let (_, mut f) = gpu::render(&opts, path, frames, 192, 192);
+            if std::env::var_os("VR_OCEAN_SAVE_FRAMES").is_some() {
+                let name = format!("whitecaps-{wind}-{whitecaps}");
+                eprintln!("saved {}", f[0].save(&name).display());
+            }
+            shots.push(f.remove(0));
+        }
+        shares.push(whitened_share(&shots[0], &shots[1]));
+    }
+    println!(
+        "water pixels whitened by whitecaps: {:.2} % at 8 m/s, {:.2} % at 18 m/s (Monahan: \
+         0.46 % and 7.3 % of the sea white)",
+        100.0 * shares[0],
+        100.0 * shares[1]
+    );
+    // Measured 0.13 % and 0 % here (Zen 3, lavapipe): the rendered white area is far below
+    // the simulated coverage in this view (see issue 14's note); the gates check that foam
+    // is drawn where the sea breaks and follows the wind, not yet its amount.
+    assert!(shares[1] > 0.0005, "a gale shows no whitecaps: {shares:?}");
+    assert!(
+        shares[0] < 0.0005,
+        "a breeze is covered in foam: {shares:?}"
+    );
+    assert!(
+        shares[1] > 3.0 * shares[0],
+        "foam does not follow the wind: {shares:?}"
+    );
 }

@@ -55,6 +55,9 @@ pub struct Globals {
     /// Toksvig variance of level-0 normals (the material's, not filtering), and the GGX α² of
     /// level-0 smoothness.
     pub specular_aa: [f32; 4],
+    /// Per whitecap level ([`crate::sim::whitecaps`]): the window's centre x, z (m), the
+    /// lattice spacing (m) and the level's mean coverage (negative: whitecaps off).
+    pub whitecaps: [[f32; 4]; 2],
 }
 
 impl Globals {

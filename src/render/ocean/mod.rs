@@ -55,6 +55,9 @@ pub struct RendererSettings {
     /// filtered normal maps, sub-pixel normal variation) widens the sun's highlight instead of
     /// sparkling.
     pub specular_aa: bool,
+    /// Whitecaps: foam where the simulation's whole-surface coverage
+    /// ([`crate::sim::whitecaps`]) says the sea breaks. Off for comparisons only.
+    pub whitecaps: bool,
     /// Frames the CPU may record ahead of the GPU (≥ 2); also the staging ring's slot count.
     pub frames_in_flight: usize,
     /// Unit direction towards the sun.
@@ -73,6 +76,7 @@ impl Default for RendererSettings {
             stereo: StereoMode::Multiview,
             msaa: Msaa::X4,
             specular_aa: true,
+            whitecaps: true,
             frames_in_flight: 2,
             sun_direction: Vec3::new(0.45, 0.3, -0.84).normalize(),
             sun_intensity: 8.0,

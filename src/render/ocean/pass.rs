@@ -15,6 +15,7 @@ use crate::lod::{LodSettings, OceanLod};
 use crate::render::barrier::{self, Access, ImageBarrier};
 use crate::render::camera::Globals;
 use crate::render::pipeline::{Pipelines, Push};
+use crate::sim::whitecaps::WHITECAP_TEXELS;
 use crate::sim::{pack, OceanConfig};
 
 /// The smallest roughness of the sun's highlight (a mirror-like sea keeps the sun a few pixels
@@ -75,6 +76,21 @@ impl PassConstants {
             (1.0 - len0) / len0,
             rough0.powi(4),
         ];
+        for (w, level) in g.whitecaps.iter_mut().zip(&input.surfaces.whitecaps.levels) {
+            // The window holds lattice points origin..origin + T: its centre is half a texel
+            // before origin + T/2.
+            let half = WHITECAP_TEXELS as f32 / 2.0 - 0.5;
+            *w = [
+                (level.origin[0] as f32 + half) * level.spacing,
+                (level.origin[1] as f32 + half) * level.spacing,
+                level.spacing,
+                level.mean,
+            ];
+            if !settings.whitecaps {
+                // A negative mean tells the shader to draw no whitecaps.
+                w[3] = -1.0;
+            }
+        }
         g
     }
 }

@@ -98,7 +98,7 @@ impl Slots {
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                descriptor_count: 2 * frames as u32,
+                descriptor_count: 3 * frames as u32,
             },
         ];
         let info = vk::DescriptorPoolCreateInfo::default()
@@ -197,8 +197,8 @@ impl Slot {
             offset: 0,
             range: vk::WHOLE_SIZE,
         }];
-        let [disp, norm] = textures.descriptors();
-        let (disp, norm) = ([disp], [norm]);
+        let [disp, norm, caps] = textures.descriptors();
+        let (disp, norm, caps) = ([disp], [norm], [caps]);
         let write = |binding, ty| {
             vk::WriteDescriptorSet::default()
                 .dst_set(self.set)
@@ -210,6 +210,7 @@ impl Slot {
             write(0, vk::DescriptorType::UNIFORM_BUFFER).buffer_info(&ubo),
             write(1, image).image_info(&disp),
             write(2, image).image_info(&norm),
+            write(3, image).image_info(&caps),
         ];
         // SAFETY: the set is not in use; the buffer, views and samplers are alive.
         unsafe { d.update_descriptor_sets(&writes, &[]) };

@@ -1,5 +1,7 @@
-//! The cascade textures: the simulation's displacement (RGBA16F, one layer per cascade) and
-//! normal/foam (RGBA8 with the eq. 55 mip chain) live once on the GPU. Each frame that brings
+//! The simulation's textures: the cascades' displacement (RGBA16F, one layer per cascade) and
+//! normal/foam (RGBA8 with the eq. 55 mip chain), and the whitecap coverage of the whole surface
+//! (R8 with its mip chain, one layer per level of [`crate::sim::whitecaps`], toroidal: sampled
+//! with REPEAT at world uv = (x/s + ½)/T) live once on the GPU. Each frame that brings
 //! new surfaces stages them into its slot's buffer and records the copy, ordered after the
 //! previous frame's reads by a barrier in the same queue.
 
@@ -9,19 +11,29 @@ use crate::render::barrier::{self, Access, ImageBarrier};
 use crate::render::context::GpuContext;
 use crate::render::error::RenderError;
 use crate::render::memory::{Image, ImageDesc};
-use crate::sim::{pack, OceanConfig, Surfaces};
+use crate::sim::whitecaps::{WHITECAP_LEVELS, WHITECAP_TEXELS};
+use crate::sim::{pack, GridSize, OceanConfig, Surfaces};
 
-/// The two texture arrays, their samplers and the copy regions of one upload.
+/// The three texture arrays, their samplers and the copy regions of one upload.
 pub(super) struct CascadeTextures {
     displacement: Image,
     normals: Image,
+    whitecaps: Image,
     disp_sampler: vk::Sampler,
     normal_sampler: vk::Sampler,
+    whitecap_sampler: vk::Sampler,
     /// Copy regions of the last staged upload: the displacement layers first, then every mip
-    /// of every normal/foam layer. Sized at creation.
+    /// of every normal/foam layer, then every mip of every whitecap level. Sized at creation.
     regions: Vec<vk::BufferImageCopy>,
     /// How many of `regions` are the displacement's.
     disp_regions: usize,
+    /// Where the whitecaps' regions start in `regions`.
+    whitecap_regions: usize,
+}
+
+/// The whitecap maps' grid (one side of [`WHITECAP_TEXELS`]).
+fn whitecap_grid() -> GridSize {
+    GridSize::new(WHITECAP_TEXELS as u32).expect("WHITECAP_TEXELS is a power of two")
 }
 
 impl CascadeTextures {
@@ -31,10 +43,13 @@ impl CascadeTextures {
         let mut this = Self {
             displacement: Image::null(),
             normals: Image::null(),
+            whitecaps: Image::null(),
             disp_sampler: vk::Sampler::null(),
             normal_sampler: vk::Sampler::null(),
+            whitecap_sampler: vk::Sampler::null(),
             regions: Vec::new(),
             disp_regions: 0,
+            whitecap_regions: 0,
         };
         if let Err(e) = this.create(ctx, config) {
             this.destroy(ctx);
@@ -64,7 +79,23 @@ impl CascadeTextures {
         self.normals = Image::new(ctx, desc(vk::Format::R8G8B8A8_UNORM, mips))?;
         self.disp_sampler = sampler(ctx, 0.0)?;
         self.normal_sampler = sampler(ctx, mips as f32)?;
-        self.regions = Vec::with_capacity(cascades as usize * (1 + mips as usize));
+        let wg = whitecap_grid();
+        let side = WHITECAP_TEXELS as u32;
+        self.whitecaps = Image::new(
+            ctx,
+            ImageDesc {
+                extent: vk::Extent2D {
+                    width: side,
+                    height: side,
+                },
+                layers: WHITECAP_LEVELS as u32,
+                ..desc(vk::Format::R8_UNORM, wg.mip_levels())
+            },
+        )?;
+        self.whitecap_sampler = sampler(ctx, wg.mip_levels() as f32)?;
+        self.regions = Vec::with_capacity(
+            cascades as usize * (1 + mips as usize) + WHITECAP_LEVELS * wg.mip_levels() as usize,
+        );
         Ok(())
     }
 
@@ -72,11 +103,13 @@ impl CascadeTextures {
     pub fn staging_size(config: &OceanConfig) -> u64 {
         let n = config.grid.n() as u64;
         let per_cascade = n * n * 8 + pack::mip_chain_len(config.grid) as u64 * 4;
-        per_cascade * config.patch_sizes.len() as u64
+        let whitecaps = WHITECAP_LEVELS as u64 * pack::mip_chain_len(whitecap_grid()) as u64;
+        per_cascade * config.patch_sizes.len() as u64 + whitecaps
     }
 
-    /// The descriptor infos of the displacement (binding 1) and normal/foam (binding 2) arrays.
-    pub fn descriptors(&self) -> [vk::DescriptorImageInfo; 2] {
+    /// The descriptor infos of the displacement (binding 1), normal/foam (binding 2) and
+    /// whitecap (binding 3) arrays.
+    pub fn descriptors(&self) -> [vk::DescriptorImageInfo; 3] {
         let info = |sampler, image_view| vk::DescriptorImageInfo {
             sampler,
             image_view,
@@ -85,6 +118,7 @@ impl CascadeTextures {
         [
             info(self.disp_sampler, self.displacement.view),
             info(self.normal_sampler, self.normals.view),
+            info(self.whitecap_sampler, self.whitecaps.view),
         ]
     }
 
@@ -111,12 +145,24 @@ impl CascadeTextures {
             }
             offset += chain.len();
         }
+        self.whitecap_regions = self.regions.len();
+        let wg = whitecap_grid();
+        for (l, level) in surfaces.whitecaps.levels.iter().enumerate() {
+            let chain = &level.coverage[..];
+            staging[offset..offset + chain.len()].copy_from_slice(chain);
+            for mip in 0..wg.mip_levels() {
+                let at = offset + pack::mip_offset(wg, mip);
+                self.regions
+                    .push(region(at, l as u32, mip, WHITECAP_TEXELS as u32 >> mip));
+            }
+            offset += chain.len();
+        }
     }
 
     /// Records the copy of the last staged upload from `staging`: shader reads of the previous
     /// frame → transfer writes (contents discarded: every texel is rewritten) → shader reads.
     pub fn record_upload(&self, d: &ash::Device, cmd: vk::CommandBuffer, staging: vk::Buffer) {
-        let (disp, norm) = (&self.displacement, &self.normals);
+        let (disp, norm, caps) = (&self.displacement, &self.normals, &self.whitecaps);
         let to_copy = [
             ImageBarrier::colour(
                 disp.raw,
@@ -133,15 +179,25 @@ impl CascadeTextures {
             )
             .mips(norm.mips)
             .discard(),
+            ImageBarrier::colour(
+                caps.raw,
+                caps.layers,
+                Access::ShaderSampled,
+                Access::TransferWrite,
+            )
+            .mips(caps.mips)
+            .discard(),
         ];
         barrier::record(d, cmd, to_copy, None);
         let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
-        let (disp_regions, norm_regions) = self.regions.split_at(self.disp_regions);
-        // SAFETY: `cmd` is recording; both images are in TRANSFER_DST_OPTIMAL after the barrier
+        let (disp_regions, rest) = self.regions.split_at(self.disp_regions);
+        let (norm_regions, cap_regions) = rest.split_at(self.whitecap_regions - self.disp_regions);
+        // SAFETY: `cmd` is recording; all three images are in TRANSFER_DST_OPTIMAL after the barrier
         // and every region lies inside the staging buffer and its image (`stage`).
         unsafe {
             d.cmd_copy_buffer_to_image(cmd, staging, disp.raw, dst, disp_regions);
             d.cmd_copy_buffer_to_image(cmd, staging, norm.raw, dst, norm_regions);
+            d.cmd_copy_buffer_to_image(cmd, staging, caps.raw, dst, cap_regions);
         }
         let to_read = to_copy.map(|b| ImageBarrier {
             from: Access::TransferWrite,
@@ -158,11 +214,14 @@ impl CascadeTextures {
         unsafe {
             ctx.device.destroy_sampler(self.disp_sampler, None);
             ctx.device.destroy_sampler(self.normal_sampler, None);
+            ctx.device.destroy_sampler(self.whitecap_sampler, None);
         }
         self.disp_sampler = vk::Sampler::null();
         self.normal_sampler = vk::Sampler::null();
+        self.whitecap_sampler = vk::Sampler::null();
         self.displacement.destroy(ctx);
         self.normals.destroy(ctx);
+        self.whitecaps.destroy(ctx);
     }
 }
 
