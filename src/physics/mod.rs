@@ -9,9 +9,12 @@
 //! ([`PHYSICS_HZ`]):
 //!
 //! 1. [`water`]: the sample points of all bodies (the centres of their hull columns,
-//!    [`body::Column`]) go to [`Surfaces::heights_at`](crate::sim::Surfaces::heights_at) in
-//!    **one** call into a preallocated buffer: all cascades summed, the horizontal (choppy)
-//!    displacement inverted, exactly as `height_at` does.
+//!    [`body::Column`]) are queried in **one** batched pass into preallocated buffers: the
+//!    heights of [`Surfaces::height_at`](crate::sim::Surfaces::height_at) (all cascades
+//!    summed, the horizontal (choppy) displacement inverted to the same tolerance), each
+//!    column's inversion warm-started from its last solution with quasi-Newton steps (3.4
+//!    iterations a point instead of ~8 in a 15 m/s sea), and the vertical speed of the
+//!    water particle at each column.
 //! 2. [`buoyancy`]: Archimedes per column on its submerged volume, Froude-Krylov along the
 //!    local water slope, linear and quadratic drag relative to the water, a constant added mass.
 //! 3. rapier steps once (`dt` = 1/[`PHYSICS_HZ`]) with those forces.

@@ -86,6 +86,8 @@ pub(crate) struct Slot {
     /// Real mass (kg) and the added mass riding with it (kg).
     pub(crate) mass: f32,
     pub(crate) added: f32,
+    /// Largest inverse principal moment of inertia (1/(kg·m²)).
+    inv_inertia: f32,
     pub(crate) hold: Option<Hold>,
     pub(crate) submerged: f32,
     /// Where this step's samples of this body start.
@@ -236,6 +238,7 @@ impl Floaters {
             flow: Vec2::ZERO,
             mass,
             added,
+            inv_inertia: solid.inv_principal_inertia.max_element(),
             hold: None,
             submerged: 0.0,
             first_sample: 0,
@@ -273,13 +276,13 @@ impl Floaters {
         self.steps += 1;
         // 1. Every floating body's sample points, one query.
         self.water.begin();
-        for s in self.slots.iter_mut() {
+        for (i, s) in self.slots.iter_mut().enumerate() {
             s.prev = s.curr;
             if s.state == BodyState::Floating {
                 s.first_sample = self.water.len();
-                for c in s.hull.columns() {
+                for (j, c) in s.hull.columns().iter().enumerate() {
                     let [x, z] = buoyancy::sample_point(&s.curr, c);
-                    self.water.push(x, z);
+                    self.water.push(key(i, j), x, z);
                 }
             }
         }
@@ -312,7 +315,7 @@ impl Floaters {
                     for c in 0..n {
                         let h = self.water.height(s.first_sample + c);
                         heights[c] = h;
-                        rates[c] = self.water.rate(key(i, c), h);
+                        rates[c] = self.water.rate(key(i, c));
                     }
                     let motion = Motion {
                         pose: s.curr,
@@ -320,6 +323,7 @@ impl Floaters {
                         linvel: from_rapier(rb.linvel()),
                         angvel: from_rapier(rb.angvel()),
                         mass: s.mass + s.added,
+                        inv_inertia: s.inv_inertia,
                     };
                     let f = buoyancy::water_forces(
                         &s.hull,
@@ -359,6 +363,12 @@ impl Floaters {
                 self.water.forget(i);
             }
         }
+    }
+
+    /// Water sample points of the last step and the fixed-point iterations their height
+    /// queries took (see [`crate::physics::water`]).
+    pub fn last_query_cost(&self) -> (usize, usize) {
+        (self.water.len(), self.water.iterations())
     }
 
     /// Fixed steps run so far.
