@@ -22,7 +22,7 @@ use glam::{Vec2, Vec3};
 use vr_ocean::physics::{BodyCount, Floaters, Hand, HandInput, PhysicsConfig, Pose, MAX_BODIES};
 use vr_ocean::sim::{OceanConfig, Simulation};
 
-/// Ceiling on rapier 0.36's allocations per step in this scene (measured 12.1 over 375
+/// Ceiling on rapier 0.36's allocations per step in this scene (measured 9.8 to 12.1 over 375
 /// steps; see the module docs).
 const RAPIER_ALLOCATIONS_PER_STEP: usize = 20;
 

@@ -26,7 +26,11 @@
 //! - **Added mass**: a constant C_a = [`ADDED_MASS_COEFFICIENT`] times the mass of water the
 //!   body displaces afloat (its own mass, or its volume of water if it sinks), added to the
 //!   rapier body's linear mass with gravity scaled down to match, so it weighs what it
-//!   should, falls at g in the air and accelerates as a body in water does. It matters for
+//!   should and accelerates as a body in water does. Out of the water the added mass is not
+//!   there: the step pushes the missing weight, C_a·m_w·g·(1 − w), down on the body, with the
+//!   wetness w = submerged volume / (footprint × [`WET_LENGTH`]) capped at 1, so a body in
+//!   the air falls at g (tests/physics_interact.rs throws one) and a floating body, wet by
+//!   more than [`WET_LENGTH`], feels none of it. It matters for
 //!   light, wide bodies (a crate of 250 kg/m³ heaves ~20 % slower, as real ones do) and
 //!   keeps the explicit coupling stable; rotational added inertia is left out.
 //!

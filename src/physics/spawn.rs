@@ -93,7 +93,7 @@ impl Floaters {
                     let err = last.unwrap_or(PhysicsError::CannotPlace {
                         kind: spec.kind(),
                         position: [centre.x, 0.0, centre.y],
-                        reason: "no free water found around the viewer",
+                        reason: "no free water found around the viewer: ask for fewer --bodies",
                     });
                     return Err(err);
                 }

@@ -181,10 +181,14 @@ impl Floaters {
             reason,
         };
         if !pose.is_finite() {
-            return Err(fail("the position or rotation is not finite"));
+            return Err(fail(
+                "the position or rotation is not finite: give finite numbers and a unit rotation",
+            ));
         }
         if p.abs().max_element() > 1.0e5 {
-            return Err(fail("farther than 100 km from the origin"));
+            return Err(fail(
+                "farther than 100 km from the origin: place it within 100 km",
+            ));
         }
         let r = spec.bounding_radius();
         if let Some(deck) = &self.config.deck {
@@ -196,7 +200,9 @@ impl Floaters {
             let half = Vec3::new(deck.size[0], deck.thickness, deck.size[1]) * 0.5;
             let gap = (p - deck.slab_centre()).abs() - half - reach;
             if gap.max_element() < -1e-3 {
-                return Err(fail("it would overlap the deck"));
+                return Err(fail(
+                    "it would overlap the deck: place it beside the deck or on top of it",
+                ));
             }
         }
         let hit = self.slots.iter().enumerate().any(|(i, s)| {
@@ -205,7 +211,10 @@ impl Floaters {
                 && s.curr.position.distance(p) < r + s.spec.bounding_radius()
         });
         if hit {
-            return Err(fail("it would overlap another body"));
+            return Err(fail(
+                "it would overlap another body: leave their bounding spheres apart, or use \
+                 spawn_around to find free water",
+            ));
         }
         Ok(())
     }
@@ -335,7 +344,12 @@ impl Floaters {
                     );
                     s.flow = f.flow;
                     s.submerged = f.submerged;
-                    rb.add_force(to_rapier(f.force), true);
+                    // The added mass's weight where the body is out of the water (see
+                    // `buoyancy`): it falls at g in the air.
+                    let wet =
+                        (f.submerged / (s.hull.area() * buoyancy::WET_LENGTH)).clamp(0.0, 1.0);
+                    let dry_weight = s.added * water.gravity * (1.0 - wet);
+                    rb.add_force(to_rapier(f.force - Vec3::Y * dry_weight), true);
                     rb.add_torque(to_rapier(f.torque), true);
                 }
             }
