@@ -1,5 +1,7 @@
 //! Bad input to the physics is a clear error that says what to change, never a panic.
 
+mod common;
+
 use glam::{Vec2, Vec3};
 use vr_ocean::physics::{
     BodyCount, BodySpec, Floaters, PhysicsConfig, PhysicsError, Pose, MAX_BODIES,
@@ -114,4 +116,23 @@ fn out_of_range_bodies_and_worlds_name_the_valid_range() {
         .validate()
         .unwrap_err();
     assert!(e.to_string().starts_with("deck height NaN"), "{e}");
+}
+
+#[test]
+fn the_bodies_option_is_checked_before_anything_opens() {
+    let out = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("physics_cli_rejected");
+    let out_s = out.to_str().unwrap();
+    for cmd in [vec!["headless", "--out", out_s], vec!["window"], vec!["xr"]] {
+        let with = |extra: &[&'static str]| -> Vec<&str> {
+            let mut v = cmd.clone();
+            v.extend_from_slice(extra);
+            v
+        };
+        common::assert_rejected(
+            &with(&["--bodies", "65"]),
+            &["--bodies 65: at most 64 floating bodies (0 = none)"],
+        );
+        common::assert_rejected(&with(&["--bodies=-1"]), &["--bodies"]);
+    }
+    assert!(!out.exists(), "nothing written for a rejected run");
 }
