@@ -12,9 +12,10 @@
 //!    [`body::Column`]) are queried in **one** batched pass into preallocated buffers: the
 //!    heights of [`Surfaces::height_at`](crate::sim::Surfaces::height_at) (all cascades
 //!    summed, the horizontal (choppy) displacement inverted to the same tolerance), each
-//!    column's inversion warm-started from its last solution with quasi-Newton steps (3.4
-//!    iterations a point instead of ~8 in a 15 m/s sea), and the vertical speed of the
-//!    water particle at each column.
+//!    column's inversion warm-started from its last solution with quasi-Newton steps (in the
+//!    15 m/s sea of `tests/physics_stability.rs`, 3.4 iterations a point where the plain
+//!    fixed point, warm-started too, took 8), and the vertical speed of the water particle at
+//!    each column.
 //! 2. [`buoyancy`]: Archimedes per column on its submerged volume, Froude-Krylov along the
 //!    local water slope, linear and quadratic drag relative to the water, a constant added mass.
 //! 3. rapier steps once (`dt` = 1/[`PHYSICS_HZ`]) with those forces.
