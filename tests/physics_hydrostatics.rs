@@ -3,7 +3,7 @@
 //! at the documented floor depth.
 //!
 //! The calm sea is the simulation's own [`Surfaces`] with every field zero (zero amplitude):
-//! the heights still go through `Surfaces::heights_at`, as in the app.
+//! the heights still go through the physics' batched queries of the surfaces, as in the app.
 
 use glam::{Quat, Vec3};
 use vr_ocean::physics::{BodySpec, BodyState, Floaters, PhysicsConfig, Pose, PHYSICS_DT};

@@ -3,8 +3,8 @@
 //!
 //! The swell is one Fourier mode of the simulation's own pipeline (a packed spectrum with a
 //! single h₀, evolved, inverse-FFT'd and finalized into a [`Surfaces`] every physics step, with
-//! the default choppiness), so the bodies read it through `Surfaces::heights_at` exactly as
-//! they read the app's sea.
+//! the default choppiness), so the bodies read it through the same batched height queries
+//! (`height_at`'s heights) as they read the app's sea.
 
 use glam::Vec3;
 use vr_ocean::physics::{BodyId, BodySpec, Floaters, PhysicsConfig, Pose, PHYSICS_DT};
