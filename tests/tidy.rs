@@ -14,10 +14,15 @@ const LAYERS: &[(&str, &[&str])] = &[
     ("base", &[]),
     ("sim", &["base"]),
     ("lod", &["base"]),
-    ("render", &["base", "sim", "lod"]),
-    ("xr", &["base", "sim", "lod", "render"]),
-    ("app", &["base", "sim", "lod", "render", "xr"]),
-    ("android", &["base", "sim", "lod", "render", "xr", "app"]),
+    // Floating bodies: read the simulation's heights, beside `lod`.
+    ("physics", &["base", "sim"]),
+    ("render", &["base", "sim", "lod", "physics"]),
+    ("xr", &["base", "sim", "lod", "render", "physics"]),
+    ("app", &["base", "sim", "lod", "render", "xr", "physics"]),
+    (
+        "android",
+        &["base", "sim", "lod", "render", "xr", "app", "physics"],
+    ),
     // Tools of the command line, beside the layers: they read the simulation only.
     ("bench", &["base", "sim"]),
     ("export", &["base", "sim"]),

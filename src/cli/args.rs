@@ -6,6 +6,7 @@ use clap::{Args, ValueEnum};
 use vr_ocean::app::RunOptions;
 use vr_ocean::base::ParamError;
 use vr_ocean::lod::{LodSettings, OceanSize, QualityPreset};
+use vr_ocean::physics::{BodyCount, PhysicsError};
 use vr_ocean::render::{
     ContextOptions, GpuContext, Msaa, RendererSettings, StereoMode, Validation,
 };
@@ -165,7 +166,14 @@ pub struct ViewArgs {
     /// sparkling.
     #[arg(long, value_enum, default_value_t = OnOff::On)]
     pub specular_aa: OnOff,
+    /// Floating bodies (buoys, crates, a small boat) spawned on the water around the deck,
+    /// 0 to 64 (0 = none).
+    #[arg(long, default_value_t = DEFAULT_BODIES)]
+    pub bodies: usize,
 }
+
+/// `--bodies` when not given.
+pub const DEFAULT_BODIES: usize = 8;
 
 /// A switch on the command line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -220,6 +228,12 @@ impl ViewArgs {
         if self.msaa.is_none() && gpu.cpu_device {
             opts.renderer.msaa = Msaa::X1;
         }
+    }
+
+    /// `--bodies` checked against the physics' limit: "--bodies 65: at most 64 floating
+    /// bodies (0 = none)".
+    pub fn bodies(&self) -> Result<BodyCount, PhysicsError> {
+        BodyCount::new(self.bodies)
     }
 
     pub fn context(&self) -> ContextOptions {
