@@ -172,3 +172,20 @@ fn whitecap_coverage_follows_monahan() {
         "coverage does not grow with the wind: {rows:?}"
     );
 }
+
+#[test]
+fn whitecaps_can_be_switched_off() {
+    let mut means = Vec::new();
+    for on in [true, false] {
+        let mut cfg = default_sea(20.0, 1);
+        cfg.whitecaps = on;
+        let mut core = SimCore::new(cfg.clone()).unwrap();
+        let mut out = Surfaces::new(&cfg);
+        for i in 0..30 {
+            core.step(i as f64 / 10.0, &mut out);
+        }
+        means.push(out.whitecaps.levels[0].mean);
+    }
+    assert!(means[0] > 0.01, "a gale without whitecaps: {means:?}");
+    assert_eq!(means[1], 0.0, "whitecaps computed although off: {means:?}");
+}

@@ -114,6 +114,7 @@ impl OceanArgs {
             grid: GridSize::new(self.grid)?,
             patch_sizes,
             patch_fit,
+            whitecaps: true,
             waves: WaveParams {
                 spectrum,
                 wind_speed: self.wind,

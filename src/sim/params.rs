@@ -132,6 +132,9 @@ pub struct OceanConfig {
     pub patch_fit: PatchFit,
     /// Wave conditions.
     pub waves: WaveParams,
+    /// Whether each step computes the whitecaps of the whole surface
+    /// ([`crate::sim::whitecaps`], a few ms of one core a step); off, they stay empty.
+    pub whitecaps: bool,
 }
 
 /// The default cascades' patch sizes (m), coarsest first: non-integer ratios (≈3.7, ≈4.3) so
@@ -146,6 +149,7 @@ impl OceanConfig {
             patch_sizes: vec![patch],
             patch_fit: PatchFit::Fixed,
             waves: WaveParams::default(),
+            whitecaps: true,
         };
         cfg.validate()?;
         Ok(cfg)
@@ -161,6 +165,7 @@ impl OceanConfig {
                 min_coarsest: DEFAULT_PATCH_SIZES[0],
             },
             waves: WaveParams::default(),
+            whitecaps: true,
         };
         cfg.fit_patches();
         cfg.validate()?;

@@ -282,7 +282,9 @@ impl SimCore {
             wind_speed: waves.wind_speed,
             dt,
         };
-        self.whitecaps.update(input, &mut out.whitecaps);
+        if self.config.whitecaps {
+            self.whitecaps.update(input, &mut out.whitecaps);
+        }
         times.whitecaps = t4.elapsed();
         self.timings = times;
     }
