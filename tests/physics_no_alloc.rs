@@ -18,8 +18,8 @@ mod common;
 
 use std::time::Duration;
 
-use glam::{Vec2, Vec3};
-use vr_ocean::physics::{BodyCount, Floaters, Hand, HandInput, PhysicsConfig, Pose, MAX_BODIES};
+use glam::Vec3;
+use vr_ocean::physics::{Floaters, Hand, HandInput, Pose};
 use vr_ocean::sim::{OceanConfig, Simulation};
 
 /// Ceiling on rapier 0.36's allocations per step in this scene (measured 9.8 to 12.1 over 375
@@ -34,14 +34,7 @@ fn steady_state_frames_do_not_allocate() {
     let mut sim = Simulation::new(cfg, 1).unwrap();
     let mut t = 0.0;
     sim.step_blocking(t);
-    let mut world = Floaters::new(PhysicsConfig::default()).unwrap();
-    let ids = world
-        .spawn_around(
-            BodyCount::new(MAX_BODIES).unwrap(),
-            Vec2::ZERO,
-            sim.surfaces(),
-        )
-        .unwrap();
+    let (mut world, ids) = common::physics::full_world(sim.surfaces());
     let held = ids[0];
     let mut hand = Hand::new();
     let frame = Duration::from_secs_f64(1.0 / 72.0);

@@ -17,8 +17,9 @@
 //! (cold start, 32 iterations) does not converge on a folded crest, where it can return the
 //! height of a trough's water; the fastest upward speed is the direct sign of a launch.
 
-use glam::Vec2;
-use vr_ocean::physics::{BodyCount, Floaters, PhysicsConfig, MAX_BODIES, PHYSICS_DT};
+mod common;
+
+use vr_ocean::physics::PHYSICS_DT;
 use vr_ocean::sim::{OceanConfig, Simulation};
 
 /// Ten minutes.
@@ -73,14 +74,7 @@ fn run(threads: usize, seconds: f64) -> Run {
     cfg.waves.wind_speed = 15.0;
     let mut sim = Simulation::new(cfg, threads).unwrap();
     sim.step_blocking(0.0);
-    let mut world = Floaters::new(PhysicsConfig::default()).unwrap();
-    let ids = world
-        .spawn_around(
-            BodyCount::new(MAX_BODIES).unwrap(),
-            Vec2::ZERO,
-            sim.surfaces(),
-        )
-        .unwrap();
+    let (mut world, ids) = common::physics::full_world(sim.surfaces());
     assert_eq!(ids.len(), 64);
     let mass: f64 = ids
         .iter()

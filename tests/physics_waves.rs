@@ -133,11 +133,7 @@ fn oscillation(series: &[f32], dt: f32) -> (f32, f32, f32) {
 /// A buoy's centre height in calm water: its waterline offset.
 fn calm_height(spec: BodySpec) -> f32 {
     let calm = Surfaces::new(&OceanConfig::single(64, 100.0).unwrap());
-    let mut w = Floaters::new(PhysicsConfig {
-        deck: None,
-        ..PhysicsConfig::default()
-    })
-    .unwrap();
+    let mut w = open_sea();
     let id = w.spawn(spec, Pose::at(Vec3::ZERO)).unwrap();
     for _ in 0..(30.0 / PHYSICS_DT) as usize {
         w.step(&calm);
@@ -155,11 +151,7 @@ fn a_buoy_heaves_with_a_long_swell() {
     let mut swell = Swell::new(100.0, 2, 0.5, 0.9);
     let spec = small_buoy();
     let rest = calm_height(spec);
-    let mut world = Floaters::new(PhysicsConfig {
-        deck: None,
-        ..PhysicsConfig::default()
-    })
-    .unwrap();
+    let mut world = open_sea();
     let start = Vec3::new(10.0, rest, 3.0);
     let id: BodyId = world.spawn(spec, Pose::at(start)).unwrap();
     let (settle, window) = ((20.0 / PHYSICS_DT) as usize, (80.0 / PHYSICS_DT) as usize);
@@ -217,11 +209,7 @@ fn in_the_default_sea_a_buoy_tracks_height_at_its_centre() {
     let mut surfaces = Surfaces::new(&cfg);
     let spec = small_buoy();
     let rest = calm_height(spec);
-    let mut world = Floaters::new(PhysicsConfig {
-        deck: None,
-        ..PhysicsConfig::default()
-    })
-    .unwrap();
+    let mut world = open_sea();
     core.step(0.0, &mut surfaces);
     let xz = (7.0, -4.0);
     let start = Vec3::new(xz.0, surfaces.height_at(xz.0, xz.1) + rest, xz.1);
@@ -258,4 +246,13 @@ fn in_the_default_sea_a_buoy_tracks_height_at_its_centre() {
         d_rms < 0.2 * e_rms,
         "rms {d_rms} m from height_at vs the water's {e_rms} m"
     );
+}
+
+/// A world without the deck: bodies alone on the sea.
+fn open_sea() -> Floaters {
+    Floaters::new(PhysicsConfig {
+        deck: None,
+        ..PhysicsConfig::default()
+    })
+    .unwrap()
 }

@@ -6,6 +6,7 @@ pub mod fault_layer;
 pub mod gpu;
 pub mod lod;
 pub mod monado;
+pub mod physics;
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::PathBuf;
