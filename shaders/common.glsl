@@ -45,6 +45,13 @@ vec3 sky(vec3 d) {
     return c;
 }
 
+// Sky light without the sun's disc and glow: what a diffuse face facing `d` is lit by.
+vec3 sky_diffuse(vec3 d) {
+    vec3 zenith = vec3(0.10, 0.28, 0.62);
+    vec3 horizon = vec3(0.62, 0.74, 0.86);
+    return mix(horizon, zenith, pow(clamp(d.y, 0.0, 1.0), 0.45));
+}
+
 // The colour distant water fades to along horizontal direction `d`: the sky just above the
 // horizon there, so the ocean meets the sky without a seam.
 vec3 fog_colour(vec3 d) {

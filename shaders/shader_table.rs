@@ -7,6 +7,9 @@ pub const SHADERS: &[(&str, &str, &[&str])] = &[
     ("ocean.vert", "ocean_mv.vert", &["MULTIVIEW=1"]),
     ("ocean.vert", "ocean.vert", &[]),
     ("ocean.frag", "ocean.frag", &[]),
+    ("solid.vert", "solid_mv.vert", &["MULTIVIEW=1"]),
+    ("solid.vert", "solid.vert", &[]),
+    ("solid.frag", "solid.frag", &[]),
 ];
 
 /// The file in `shaders/spirv/` that records the fingerprint of the sources it was made from.

@@ -3,9 +3,10 @@
 //! runtime's system name), no validation layer (the APK ships none), cascades over a 2048 m
 //! ocean, and as many simulation workers as the performance cores allow (`sim::workers`).
 
-use crate::app::RunOptions;
+use crate::app::{DeckPlacement, FloatOptions, RunOptions};
 use crate::base::ParamError;
 use crate::lod::{LodSettings, OceanSize, QualityPreset};
+use crate::physics::{BodyCount, DEFAULT_DECK_HEIGHT};
 use crate::render::{RendererSettings, Validation};
 use crate::sim::workers::recommended_workers;
 use crate::sim::OceanConfig;
@@ -51,6 +52,10 @@ pub fn run_options(
         renderer: RendererSettings::default(),
         capture: Vec::new(),
         warmup: WARMUP_FRAMES,
+        floating: Some(FloatOptions {
+            bodies: BodyCount::DEFAULT,
+            deck: DeckPlacement::At(DEFAULT_DECK_HEIGHT),
+        }),
     })
 }
 

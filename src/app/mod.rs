@@ -2,6 +2,7 @@
 //! [`FrameLoop`]. The simulation step for the next frame runs on its own Rayon pool while this
 //! frame's LOD is updated and its commands are recorded and submitted.
 
+pub mod floating;
 pub mod live;
 pub mod timing;
 
@@ -11,10 +12,12 @@ use crate::base::ParamError;
 use crate::lod::{
     self, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset, StereoFrustum,
 };
+use crate::physics::PhysicsError;
 use crate::render::readback::Readback;
 use crate::render::{self, OceanRenderer, RenderError, RendererSettings};
 use crate::sim::{OceanConfig, SimError, Simulation};
 use crate::xr::{FrameLoop, FrameState, Tweak, XrError};
+pub use floating::{Afloat, DeckPlacement, FloatOptions};
 pub use timing::{FrameTimes, Percentiles, Timing};
 
 /// Why a run stopped.
@@ -28,6 +31,8 @@ pub enum AppError {
     Param(ParamError),
     /// A file could not be written.
     Io(String),
+    /// The floating bodies could not be set up (too many, no room to place them).
+    Physics(PhysicsError),
 }
 
 impl std::fmt::Display for AppError {
@@ -37,6 +42,7 @@ impl std::fmt::Display for AppError {
             AppError::Sim(e) => e.fmt(f),
             AppError::Param(e) => e.fmt(f),
             AppError::Io(e) => f.write_str(e),
+            AppError::Physics(e) => e.fmt(f),
         }
     }
 }
@@ -61,6 +67,12 @@ impl From<SimError> for AppError {
     }
 }
 
+impl From<PhysicsError> for AppError {
+    fn from(e: PhysicsError) -> Self {
+        AppError::Physics(e)
+    }
+}
+
 impl From<ParamError> for AppError {
     fn from(e: ParamError) -> Self {
         AppError::Param(e)
@@ -82,6 +94,8 @@ pub struct RunOptions {
     pub capture: Vec<u64>,
     /// Frames at the start left out of the timing statistics (pipeline warm-up).
     pub warmup: u64,
+    /// Floating bodies and the deck; `None`: open water only (image and timing tests).
+    pub floating: Option<FloatOptions>,
 }
 
 /// One captured frame: both eyes as tightly packed sRGB RGBA8 rows.
@@ -166,6 +180,7 @@ struct Frames<'a> {
     sim: Simulation,
     renderer: OceanRenderer,
     readback: Option<Readback>,
+    afloat: Option<Afloat>,
     /// Whether the first simulation step was started.
     started: bool,
     stats: RunStats,
@@ -201,6 +216,7 @@ impl<'a> Frames<'a> {
     ) -> Result<Self, AppError> {
         let lod = OceanLod::new(opts.lod);
         let sim = Simulation::new(opts.ocean.clone(), opts.threads)?;
+        let afloat = opts.floating.as_ref().map(Afloat::new).transpose()?;
         let mut renderer =
             OceanRenderer::new(xr.gpu(), &opts.ocean, &lod, xr.targets(), opts.renderer)?;
         let readback = if opts.capture.is_empty() {
@@ -222,6 +238,7 @@ impl<'a> Frames<'a> {
             sim,
             renderer,
             readback,
+            afloat,
             started: false,
             stats: RunStats {
                 times: FrameTimes::with_capacity(16_384),
@@ -259,7 +276,15 @@ impl<'a> Frames<'a> {
         for &tweak in frame.tweaks.iter().flatten() {
             match tweak {
                 Tweak::Preset(p) => self.switch_preset(p)?,
+                Tweak::Throw => self.throw(&frame),
                 t => live::apply_wave_tweak(&mut self.sim, t),
+            }
+        }
+        // The bodies ride the surfaces shown this frame.
+        if let Some(afloat) = self.afloat.as_mut() {
+            let ticks = afloat.advance(&frame, self.sim.surfaces())?;
+            for (hand, _) in ticks.iter().enumerate().filter(|(_, &t)| t) {
+                self.xr.haptic_tick(hand);
             }
         }
         self.sim
@@ -323,6 +348,7 @@ impl<'a> Frames<'a> {
                 eyes: &frame.views,
                 lod: &self.lod,
                 surfaces: self.sim.surfaces(),
+                solids: self.afloat.as_ref().map_or(&[], |a| a.solids()),
             },
         )?;
         self.xr.release_image()?;
@@ -385,6 +411,19 @@ impl<'a> Frames<'a> {
             device: gpu.device_name.clone(),
         };
         (report, self.xr)
+    }
+
+    /// Throws a crate along the view (the window's throw key); a throw that cannot be placed
+    /// (a body in the way) is only logged.
+    fn throw(&mut self, frame: &FrameState) {
+        match self.afloat.as_mut() {
+            Some(afloat) => {
+                if let Err(e) = afloat.throw(frame) {
+                    log::warn!("throw: {e}");
+                }
+            }
+            None => log::info!("no floating bodies in this run: nothing to throw"),
+        }
     }
 
     /// Rebuilds the LOD and the renderer for `preset` (same ocean size). Waits for the GPU first:

@@ -174,7 +174,7 @@ pub struct ViewArgs {
 }
 
 /// `--bodies` when not given.
-pub const DEFAULT_BODIES: usize = 8;
+pub const DEFAULT_BODIES: usize = BodyCount::DEFAULT.get();
 
 /// A switch on the command line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -220,6 +220,7 @@ impl ViewArgs {
             },
             capture,
             warmup,
+            floating: None,
         })
     }
 

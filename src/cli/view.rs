@@ -7,7 +7,7 @@ use clap::{Args, Parser, ValueEnum};
 use super::args::{preset, ViewArgs};
 use super::report::{self, ValidationWatch};
 use super::CmdResult;
-use vr_ocean::app::{self, FrameTimes};
+use vr_ocean::app::{self, DeckPlacement, FloatOptions, FrameTimes};
 use vr_ocean::base::ParamError;
 use vr_ocean::export;
 use vr_ocean::render::Msaa;
@@ -139,10 +139,13 @@ pub fn headless_cmd(a: HeadlessArgs) -> CmdResult {
     if let Some(bad) = capture.iter().find(|&&f| f >= a.frames) {
         return Err(ParamError::new("capture", *bad as f64, "frame numbers below --frames").into());
     }
-    // Checked before any window or device opens. The frame loop does not host the bodies
-    // yet (issue 15: `physics::Floaters` is ready, the app and renderer wiring is not).
-    a.view.bodies()?;
+    // Checked before any window or device opens.
+    let bodies = a.view.bodies()?;
     let mut opts = a.view.run_options(capture, a.warmup.min(a.frames - 1))?;
+    opts.floating = Some(FloatOptions {
+        bodies,
+        deck: DeckPlacement::UnderViewer,
+    });
     export::prepare_dir(&a.out)?;
     let mut xr = HeadlessXr::new(&a.view.context(), size, path, a.frames)?;
     a.view.resolve_msaa(&mut opts, xr.gpu());
@@ -199,10 +202,13 @@ pub fn window_cmd(a: WindowArgs, fallback: bool) -> CmdResult {
     }
     let path = a.path.as_deref().map(CameraPath::load).transpose()?;
     let warmup = a.frames.map_or(10, |n| n.saturating_sub(1).min(10));
-    // Checked before any window or device opens. The frame loop does not host the bodies
-    // yet (issue 15: `physics::Floaters` is ready, the app and renderer wiring is not).
-    a.view.bodies()?;
+    // Checked before any window or device opens.
+    let bodies = a.view.bodies()?;
     let mut opts = a.view.run_options(Vec::new(), warmup)?;
+    opts.floating = Some(FloatOptions {
+        bodies,
+        deck: DeckPlacement::UnderViewer,
+    });
     if let Some(shot) = &a.screenshot {
         let dir = shot.parent().filter(|d| !d.as_os_str().is_empty());
         export::prepare_dir(dir.unwrap_or(std::path::Path::new(".")))?;
@@ -255,10 +261,13 @@ pub fn xr_cmd(a: XrArgs) -> CmdResult {
     if a.frames == Some(0) {
         return Err(ParamError::new("frames", 0.0, "at least 1 frame").into());
     }
-    // Checked before any window or device opens. The frame loop does not host the bodies
-    // yet (issue 15: `physics::Floaters` is ready, the app and renderer wiring is not).
-    a.view.bodies()?;
+    // Checked before any window or device opens.
+    let bodies = a.view.bodies()?;
     let mut opts = a.view.run_options(Vec::new(), 10)?;
+    opts.floating = Some(FloatOptions {
+        bodies,
+        deck: DeckPlacement::At(a.deck_height),
+    });
     if a.submit_depth && a.view.msaa.is_none() {
         // Submitted depth is single-sample.
         opts.renderer.msaa = Msaa::X1;

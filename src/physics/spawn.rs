@@ -4,7 +4,7 @@ use glam::{Quat, Vec2, Vec3};
 
 use crate::physics::body::{BodyKind, BodySpec};
 use crate::physics::error::PhysicsError;
-use crate::physics::world::{BodyId, Floaters};
+use crate::physics::world::{BodyId, BodyState, Floaters};
 use crate::physics::{Pose, MAX_BODIES};
 use crate::sim::Surfaces;
 
@@ -13,6 +13,10 @@ use crate::sim::Surfaces;
 pub struct BodyCount(usize);
 
 impl BodyCount {
+    /// The bodies a session floats unless told otherwise (`--bodies`, the headset app): one
+    /// of each of [`default_body`]'s mix.
+    pub const DEFAULT: BodyCount = BodyCount(8);
+
     /// `n` bodies, or [`PhysicsError::TooManyBodies`] (which names `--bodies`) above
     /// [`MAX_BODIES`].
     pub fn new(n: usize) -> Result<Self, PhysicsError> {
@@ -26,7 +30,7 @@ impl BodyCount {
     }
 
     /// The count.
-    pub fn get(self) -> usize {
+    pub const fn get(self) -> usize {
         self.0
     }
 }
@@ -119,6 +123,40 @@ impl Floaters {
             }
         }
         Ok(ids)
+    }
+
+    /// Puts every free body farther than `radius` (m, horizontally) from `centre` back on the
+    /// water of `surfaces`, at rest and at its draft, at the same bearing a third of `radius`
+    /// out (turned a little further when that spot is taken). Over a long session the sea's
+    /// drift and the user's throws would otherwise carry them all out of sight. Returns how
+    /// many moved. Allocates only when one does (rapier's new body), never in steady state.
+    pub fn bring_back(&mut self, centre: Vec2, radius: f32, surfaces: &Surfaces) -> usize {
+        let mut moved = 0;
+        for slot in 0..self.slots.len() {
+            let s = &self.slots[slot];
+            let offset = Vec2::new(s.curr.position.x, s.curr.position.z) - centre;
+            if s.state != BodyState::Floating || offset.length() <= radius || !offset.is_finite() {
+                continue;
+            }
+            let spec = s.spec;
+            let bearing = offset.y.atan2(offset.x);
+            let afloat = (spec.density() / self.config().water_density).min(1.0);
+            for k in 0..8 {
+                let a = bearing + 0.2 * k as f32;
+                let xz = centre + radius / 3.0 * Vec2::new(a.cos(), a.sin());
+                let water = surfaces.height_at(xz.x, xz.y);
+                let pose = Pose {
+                    position: Vec3::new(xz.x, water + spec.size().y * (0.5 - afloat), xz.y),
+                    rotation: Quat::from_rotation_y(a),
+                };
+                if self.check_placement(&spec, &pose, Some(slot)).is_ok() {
+                    self.place(slot, spec, pose);
+                    moved += 1;
+                    break;
+                }
+            }
+        }
+        moved
     }
 }
 

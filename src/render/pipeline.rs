@@ -1,5 +1,6 @@
 //! The stereo render pass (multiview view mask 0b11, or one layer per pass for the fallback)
-//! and the pipeline built against it that draws the ocean and the sky.
+//! and the pipelines built against it: the ocean and the sky, and the solids (floating
+//! bodies, the deck).
 
 use std::ffi::CStr;
 
@@ -9,6 +10,7 @@ use super::context::GpuContext;
 use super::error::RenderError;
 use super::shaders;
 use crate::lod::PatchInstance;
+use crate::render::ocean::{SolidInstance, SolidVertex};
 
 /// How both eyes are drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -150,8 +152,10 @@ pub struct Pipelines {
     pub set_layout: vk::DescriptorSetLayout,
     /// The layout all pipelines share.
     pub layout: vk::PipelineLayout,
-    /// The one pipeline of the pass: patches, skirt and sky (push constant `mode`).
+    /// The ocean's pipeline: patches, skirt and sky (push constant `mode`).
     pub ocean: vk::Pipeline,
+    /// The solids' pipeline: instanced unit meshes (bodies, deck), back faces culled.
+    pub solids: vk::Pipeline,
 }
 
 impl Pipelines {
@@ -187,6 +191,7 @@ impl Pipelines {
             set_layout: vk::DescriptorSetLayout::null(),
             layout: vk::PipelineLayout::null(),
             ocean: vk::Pipeline::null(),
+            solids: vk::Pipeline::null(),
         };
         if let Err(e) = this.create(ctx) {
             this.destroy(ctx);
@@ -241,17 +246,21 @@ impl Pipelines {
         self.layout = ctx.create("vkCreatePipelineLayout", || unsafe {
             d.create_pipeline_layout(&info, None)
         })?;
-        let vert = match self.mode {
-            StereoMode::Multiview => shaders::OCEAN_VERT_MULTIVIEW,
-            StereoMode::TwoPass => shaders::OCEAN_VERT,
+        let multiview = self.mode == StereoMode::Multiview;
+        let target = Target {
+            layout: self.layout,
+            render_pass: self.render_pass,
+            msaa: self.layout_of_pass.msaa,
         };
         self.ocean = build(
             ctx,
-            vert,
-            shaders::OCEAN_FRAG,
-            self.layout,
-            self.render_pass,
-            self.layout_of_pass.msaa,
+            &ocean_program(multiview, &mut Vec::new(), &mut Vec::new()),
+            target,
+        )?;
+        self.solids = build(
+            ctx,
+            &solid_program(multiview, &mut Vec::new(), &mut Vec::new()),
+            target,
         )?;
         Ok(())
     }
@@ -262,6 +271,7 @@ impl Pipelines {
         // SAFETY: the GPU no longer uses them (the caller's contract); null handles are no-ops.
         unsafe {
             d.destroy_pipeline(self.ocean, None);
+            d.destroy_pipeline(self.solids, None);
             d.destroy_pipeline_layout(self.layout, None);
             d.destroy_descriptor_set_layout(self.set_layout, None);
             d.destroy_render_pass(self.render_pass, None);
@@ -421,14 +431,136 @@ fn render_pass(ctx: &GpuContext, pass: &PassLayout) -> Result<vk::RenderPass, Re
     })
 }
 
-fn build(
-    ctx: &GpuContext,
-    vert: &[u32],
-    frag: &[u32],
+/// What a pipeline is built against: the shared layout and the pass.
+#[derive(Clone, Copy)]
+struct Target {
     layout: vk::PipelineLayout,
     render_pass: vk::RenderPass,
     msaa: Msaa,
+}
+
+/// The shaders and vertex input of one pipeline.
+struct Program<'a> {
+    vert: &'a [u32],
+    frag: &'a [u32],
+    bindings: &'a [vk::VertexInputBindingDescription],
+    attributes: &'a [vk::VertexInputAttributeDescription],
+    cull: vk::CullModeFlags,
+}
+
+fn attr(
+    location: u32,
+    binding: u32,
+    format: vk::Format,
+    offset: u32,
+) -> vk::VertexInputAttributeDescription {
+    vk::VertexInputAttributeDescription {
+        location,
+        binding,
+        format,
+        offset,
+    }
+}
+
+/// The ocean: lattice positions (binding 0) and `PatchInstance`s (binding 1). Not back-face
+/// culled: folded crests show triangles from behind, and culling them would open holes.
+fn ocean_program<'a>(
+    multiview: bool,
+    bindings: &'a mut Vec<vk::VertexInputBindingDescription>,
+    attributes: &'a mut Vec<vk::VertexInputAttributeDescription>,
+) -> Program<'a> {
+    bindings.extend([
+        vk::VertexInputBindingDescription {
+            binding: 0,
+            stride: 12,
+            input_rate: vk::VertexInputRate::VERTEX,
+        },
+        vk::VertexInputBindingDescription {
+            binding: 1,
+            stride: std::mem::size_of::<PatchInstance>() as u32,
+            input_rate: vk::VertexInputRate::INSTANCE,
+        },
+    ]);
+    let f = vk::Format::R32_SFLOAT;
+    let f2 = vk::Format::R32G32_SFLOAT;
+    let u = vk::Format::R32_UINT;
+    attributes.extend([
+        attr(0, 0, vk::Format::R32G32B32_SFLOAT, 0),
+        attr(1, 1, f2, 0),
+        attr(2, 1, f, 8),
+        attr(3, 1, u, 12),
+        attr(4, 1, f2, 16),
+        attr(5, 1, f2, 24),
+        attr(6, 1, u, 32),
+        attr(7, 1, f, 36),
+    ]);
+    Program {
+        vert: if multiview {
+            shaders::OCEAN_VERT_MULTIVIEW
+        } else {
+            shaders::OCEAN_VERT
+        },
+        frag: shaders::OCEAN_FRAG,
+        bindings,
+        attributes,
+        cull: vk::CullModeFlags::NONE,
+    }
+}
+
+/// The solids: `SolidVertex`es (binding 0) and `SolidInstance`s (binding 1); closed meshes,
+/// back faces culled.
+fn solid_program<'a>(
+    multiview: bool,
+    bindings: &'a mut Vec<vk::VertexInputBindingDescription>,
+    attributes: &'a mut Vec<vk::VertexInputAttributeDescription>,
+) -> Program<'a> {
+    bindings.extend([
+        vk::VertexInputBindingDescription {
+            binding: 0,
+            stride: std::mem::size_of::<SolidVertex>() as u32,
+            input_rate: vk::VertexInputRate::VERTEX,
+        },
+        vk::VertexInputBindingDescription {
+            binding: 1,
+            stride: std::mem::size_of::<SolidInstance>() as u32,
+            input_rate: vk::VertexInputRate::INSTANCE,
+        },
+    ]);
+    let f3 = vk::Format::R32G32B32_SFLOAT;
+    let f4 = vk::Format::R32G32B32A32_SFLOAT;
+    attributes.extend([
+        attr(0, 0, f3, 0),
+        attr(1, 0, f3, 12),
+        attr(2, 1, f4, 0),
+        attr(3, 1, f4, 16),
+        attr(4, 1, f4, 32),
+        attr(5, 1, f4, 48),
+        attr(6, 1, f4, 64),
+    ]);
+    Program {
+        vert: if multiview {
+            shaders::SOLID_VERT_MULTIVIEW
+        } else {
+            shaders::SOLID_VERT
+        },
+        frag: shaders::SOLID_FRAG,
+        bindings,
+        attributes,
+        cull: vk::CullModeFlags::BACK,
+    }
+}
+
+fn build(
+    ctx: &GpuContext,
+    program: &Program<'_>,
+    target: Target,
 ) -> Result<vk::Pipeline, RenderError> {
+    let Target {
+        layout,
+        render_pass,
+        msaa,
+    } = target;
+    let (vert, frag) = (program.vert, program.frag);
     let d = &ctx.device;
     let module = |code: &[u32]| {
         let info = vk::ShaderModuleCreateInfo::default().code(code);
@@ -453,50 +585,17 @@ fn build(
             .module(frag)
             .name(MAIN),
     ];
-    let vertex_bindings = [
-        vk::VertexInputBindingDescription {
-            binding: 0,
-            stride: 12,
-            input_rate: vk::VertexInputRate::VERTEX,
-        },
-        vk::VertexInputBindingDescription {
-            binding: 1,
-            stride: std::mem::size_of::<PatchInstance>() as u32,
-            input_rate: vk::VertexInputRate::INSTANCE,
-        },
-    ];
-    let attr = |location, binding, format, offset| vk::VertexInputAttributeDescription {
-        location,
-        binding,
-        format,
-        offset,
-    };
-    let f = vk::Format::R32_SFLOAT;
-    let f2 = vk::Format::R32G32_SFLOAT;
-    let u = vk::Format::R32_UINT;
-    let attributes = [
-        attr(0, 0, vk::Format::R32G32B32_SFLOAT, 0),
-        attr(1, 1, f2, 0),
-        attr(2, 1, f, 8),
-        attr(3, 1, u, 12),
-        attr(4, 1, f2, 16),
-        attr(5, 1, f2, 24),
-        attr(6, 1, u, 32),
-        attr(7, 1, f, 36),
-    ];
     let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
-        .vertex_binding_descriptions(&vertex_bindings)
-        .vertex_attribute_descriptions(&attributes);
+        .vertex_binding_descriptions(program.bindings)
+        .vertex_attribute_descriptions(program.attributes);
     let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
         .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
     let viewport = vk::PipelineViewportStateCreateInfo::default()
         .viewport_count(1)
         .scissor_count(1);
-    // The ocean is not back-face culled: folded crests show triangles from behind, and
-    // culling them would open holes.
     let raster = vk::PipelineRasterizationStateCreateInfo::default()
         .polygon_mode(vk::PolygonMode::FILL)
-        .cull_mode(vk::CullModeFlags::NONE)
+        .cull_mode(program.cull)
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);
     let multisample =

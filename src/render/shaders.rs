@@ -24,9 +24,19 @@ pub const OCEAN_VERT: &[u32] = spirv!("ocean.vert");
 /// Ocean fragment shader.
 pub const OCEAN_FRAG: &[u32] = spirv!("ocean.frag");
 
+/// Solids (bodies, deck) vertex shader, eye from `gl_ViewIndex`.
+pub const SOLID_VERT_MULTIVIEW: &[u32] = spirv!("solid_mv.vert");
+/// Solids vertex shader, eye from a push constant.
+pub const SOLID_VERT: &[u32] = spirv!("solid.vert");
+/// Solids fragment shader.
+pub const SOLID_FRAG: &[u32] = spirv!("solid.frag");
+
 /// Every module with its name, for validation with `spirv-val`.
-pub const ALL: [(&str, &[u32]); 3] = [
+pub const ALL: [(&str, &[u32]); 6] = [
     ("ocean_mv.vert", OCEAN_VERT_MULTIVIEW),
     ("ocean.vert", OCEAN_VERT),
     ("ocean.frag", OCEAN_FRAG),
+    ("solid_mv.vert", SOLID_VERT_MULTIVIEW),
+    ("solid.vert", SOLID_VERT),
+    ("solid.frag", SOLID_FRAG),
 ];

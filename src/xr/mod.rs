@@ -13,6 +13,7 @@ pub mod openxr;
 
 use crate::base::EyeView;
 use crate::lod::QualityPreset;
+use crate::physics::HandInput;
 use crate::render::{GpuContext, RenderError, TargetImages};
 
 /// A live change asked for by the user (window keys); the app applies it at the frame start.
@@ -26,6 +27,8 @@ pub enum Tweak {
     Choppiness(f32),
     /// Switch to this quality preset (rebuilds the LOD and the renderer).
     Preset(QualityPreset),
+    /// Throw a crate from the head along the view (the window's throw key).
+    Throw,
 }
 
 /// Most tweaks one frame carries; later ones wait for the next frame.
@@ -46,6 +49,9 @@ pub struct FrameState {
     pub should_render: bool,
     /// Live changes to apply before this frame, first to last (`None` slots are empty).
     pub tweaks: [Option<Tweak>; MAX_TWEAKS],
+    /// Left and right hands (controller grip pose, squeeze, velocities) where tracked: they
+    /// grab and throw the floating bodies. `None` without controllers (desktop backends).
+    pub hands: [Option<HandInput>; 2],
 }
 
 /// The images a frame renders into: indices into [`TargetImages::images`] and
@@ -115,4 +121,8 @@ pub trait FrameLoop {
     /// The GPU time of a recent frame's pass (from timestamps, a frame or two late). Backends
     /// that adapt to the frame cost (the OpenXR refresh-rate governor) use it; others ignore it.
     fn report_gpu_time(&mut self, _gpu: std::time::Duration) {}
+
+    /// Plays a short haptic tick on hand `hand` (0 left, 1 right): a body was grabbed.
+    /// Backends without controllers ignore it.
+    fn haptic_tick(&mut self, _hand: usize) {}
 }

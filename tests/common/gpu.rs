@@ -61,6 +61,7 @@ pub fn small_options(stereo: StereoMode, capture: Vec<u64>) -> RunOptions {
         },
         capture,
         warmup: 0,
+        floating: None,
     }
 }
 

@@ -1,9 +1,10 @@
 //! The meshes the pass draws, uploaded once: the LOD's patch grid with its 16 stitch index sets
-//! (eq. 65-68), the skirt of every possible ring level (section 5.7) and the sky's quad, in one
-//! vertex and one index buffer.
+//! (eq. 65-68), the skirt of every possible ring level (section 5.7), the sky's quad and the
+//! solids' unit meshes ([`super::solids`]), in one vertex and one index buffer.
 
 use ash::vk;
 
+use super::solids::{Shape, SolidVertex, UnitMesh};
 use crate::lod::{OceanLod, StitchFlags};
 use crate::render::context::GpuContext;
 use crate::render::error::RenderError;
@@ -27,11 +28,16 @@ pub(super) struct MeshLayout {
     pub boundary_level: u32,
     /// First index of the sky's two triangles.
     pub sky_first_index: u32,
+    /// Byte offset of the solids' vertices (`SolidVertex`).
+    pub solid_vertex_offset: u64,
+    /// Per [`Shape`] (in [`Shape::ALL`] order): first index, index count and vertex offset
+    /// (in solid vertices from `solid_vertex_offset`).
+    pub solid_draws: [(u32, u32, i32); 3],
 }
 
 /// The device-local vertex and index buffers and what is where in them.
 pub(super) struct MeshBuffers {
-    /// Positions (12-byte vec3).
+    /// Positions (12-byte vec3), then the solids' vertices (24 bytes each).
     pub vertices: Buffer,
     /// u16 indices.
     pub indices: Buffer,
@@ -99,6 +105,8 @@ fn gather(lod: &OceanLod) -> (Vec<[f32; 3]>, Vec<u16>, MeshLayout) {
         skirt_inner: Vec::new(),
         boundary_level: st.boundary_level(),
         sky_first_index: 0,
+        solid_vertex_offset: 0,
+        solid_draws: [(0, 0, 0); 3],
     };
     for k in 0..16u8 {
         let set = mesh.indices(StitchFlags::from_bits(k));
@@ -117,6 +125,20 @@ fn gather(lod: &OceanLod) -> (Vec<[f32; 3]>, Vec<u16>, MeshLayout) {
     }
     layout.sky_first_index = idx.len() as u32;
     idx.extend_from_slice(&[0, 1, 2, 2, 1, 3]);
+    layout.solid_vertex_offset = (verts.len() * 12) as u64;
+    let mut solid_vertices = 0;
+    for (draw, shape) in layout.solid_draws.iter_mut().zip(Shape::ALL) {
+        let mesh = UnitMesh::of(shape);
+        *draw = (idx.len() as u32, mesh.indices.len() as u32, solid_vertices);
+        solid_vertices += mesh.vertices.len() as i32;
+        idx.extend_from_slice(&mesh.indices);
+        // A solid vertex is two vec3s: position, normal.
+        for v in &mesh.vertices {
+            let v: &SolidVertex = v;
+            verts.push(v.position);
+            verts.push(v.normal);
+        }
+    }
     if idx.len() % 2 == 1 {
         idx.push(0);
     }

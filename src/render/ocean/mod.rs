@@ -7,7 +7,8 @@
 //! - `textures`: the cascade textures, their samplers and the upload;
 //! - `mesh`: the patch, skirt and sky meshes, uploaded once;
 //! - `targets`: views and framebuffers of the target images;
-//! - `pass`: the uniforms, cascade fades and the pass's recording.
+//! - `pass`: the uniforms, cascade fades and the pass's recording;
+//! - `solids`: the floating bodies' and the deck's meshes and instances.
 //!
 //! Invariants:
 //! - A slot is reused only after its fence signals, so the CPU never writes memory the GPU
@@ -21,6 +22,7 @@
 mod mesh;
 mod pass;
 mod slots;
+pub mod solids;
 mod targets;
 mod textures;
 
@@ -40,6 +42,7 @@ use super::pipeline::{Msaa, PassLayout, Pipelines, StereoMode};
 use crate::base::EyeView;
 use crate::lod::OceanLod;
 use crate::sim::{OceanConfig, Surfaces};
+pub use solids::{Shape, Solid, SolidInstance, SolidKind, SolidVertex, MAX_SOLIDS};
 
 /// The most cascades the shaders read (a `vec4` of patch sizes).
 pub const MAX_CASCADES: usize = 4;
@@ -116,6 +119,9 @@ pub struct FrameInput<'a> {
     pub lod: &'a OceanLod,
     /// The simulation result to show.
     pub surfaces: &'a Surfaces,
+    /// Solid things in the water and the deck (at most [`MAX_SOLIDS`]); drawn in the same
+    /// pass, at most three more draws.
+    pub solids: &'a [Solid],
 }
 
 /// What one [`OceanRenderer::render`] call measured.
@@ -259,6 +265,7 @@ impl OceanRenderer {
         };
         slot.write_globals(&self.pass.globals(input, &self.settings));
         let skirt_instance = slot.write_instances(input.lod)?;
+        let solid_draws = slot.write_solids(input.solids)?;
         // Textures, when the simulation moved on since this slot last uploaded.
         let time = input.surfaces.time();
         let upload = slot.uploaded != Some(time) || self.frame <= 1;
@@ -286,6 +293,7 @@ impl OceanRenderer {
             pipelines: &self.pipelines,
             mesh: &self.mesh,
             instances: slot.instances.raw,
+            solids: slot.solids.raw,
             set: slot.set,
             extent: self.extent,
             vertices_per_side: self.pass.vertices_per_side,
@@ -307,7 +315,7 @@ impl OceanRenderer {
         let mut draws = 0;
         for &eye in passes {
             let fb = self.targets.framebuffer(input.image, input.depth, eye);
-            draws += recorder.record(fb, eye, input.lod, skirt_instance);
+            draws += recorder.record(fb, eye, input.lod, skirt_instance, &solid_draws);
         }
         // SAFETY: `cmd` is recording, outside a render pass.
         unsafe {

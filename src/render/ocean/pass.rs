@@ -1,8 +1,9 @@
 //! The ocean pass: its uniforms (eyes, sun, cascades and their fade distances) and its
-//! recording: at most 16 instanced patch draws, the skirt and the sky, for both eyes with
-//! multiview or for one eye per pass without.
+//! recording: at most 16 instanced patch draws, the skirt, the solids (at most three instanced
+//! draws) and the sky, for both eyes with multiview or for one eye per pass without.
 //!
-//! One pipeline draws everything (push constant `mode`: patches, skirt, sky). The sky is a
+//! One pipeline draws the ocean (push constant `mode`: patches, skirt, sky), another the
+//! solids, which share its depth buffer so the water hides their submerged parts. The sky is a
 //! viewport-sized quad at depth 1e-7 drawn last under the `GREATER` test, so it fills only
 //! pixels no ocean covers and never needs clipping (lavapipe's multiview put clipped
 //! primitives of view 1 into layer 0).
@@ -123,6 +124,8 @@ pub(super) struct PassRecorder<'a> {
     pub mesh: &'a MeshBuffers,
     /// The slot's instance buffer (the LOD's instances, then the skirt's).
     pub instances: vk::Buffer,
+    /// The slot's solid instances, grouped by shape.
+    pub solids: vk::Buffer,
     /// The slot's descriptor set.
     pub set: vk::DescriptorSet,
     pub extent: vk::Extent2D,
@@ -143,14 +146,15 @@ pub(super) struct ResolveAfter {
 
 impl PassRecorder<'_> {
     /// Records one render pass into `framebuffer` (both eyes with multiview, else eye `eye`):
-    /// the LOD's patch draws, the skirt (instance `skirt_instance`) and the sky. Returns the
-    /// draws recorded.
+    /// the LOD's patch draws, the skirt (instance `skirt_instance`), the solids (per shape:
+    /// first instance and count) and the sky. Returns the draws recorded.
     pub fn record(
         &self,
         framebuffer: vk::Framebuffer,
         eye: u32,
         lod: &OceanLod,
         skirt_instance: u32,
+        solids: &[(u32, u32); 3],
     ) -> u32 {
         let (d, cmd, p) = (self.device, self.cmd, self.pipelines);
         let clear = [
@@ -238,8 +242,31 @@ impl PassRecorder<'_> {
                 skirt_instance,
             );
             draws += 1;
-            // The sky: mode 2 of the same pipeline, vertices from gl_VertexIndex (indexed with
-            // 0, 1, 2: lavapipe's multiview drew a non-indexed draw into the first view only).
+            if solids.iter().any(|s| s.1 > 0) {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.solids);
+                let offset = layout.solid_vertex_offset;
+                d.cmd_bind_vertex_buffers(cmd, 0, &[vertices, self.solids], &[offset, 0]);
+                for (&(first_instance, count), &(first, indices, vertex_offset)) in
+                    solids.iter().zip(&layout.solid_draws)
+                {
+                    if count > 0 {
+                        d.cmd_draw_indexed(
+                            cmd,
+                            indices,
+                            count,
+                            first,
+                            vertex_offset,
+                            first_instance,
+                        );
+                        draws += 1;
+                    }
+                }
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.ocean);
+            }
+            // The sky: mode 2 of the ocean's pipeline, vertices from gl_VertexIndex (indexed
+            // with 0, 1, 2: lavapipe's multiview drew a non-indexed draw into the first view
+            // only). Its draw reads both vertex bindings, so the ocean's are bound again.
+            d.cmd_bind_vertex_buffers(cmd, 0, &[vertices, self.instances], &[0, 0]);
             push.mode = 2;
             self.push(&push);
             d.cmd_draw_indexed(cmd, 6, 1, layout.sky_first_index, 0, 0);

@@ -10,6 +10,7 @@ use std::time::Duration;
 
 use ash::vk;
 
+use super::solids::{Shape, Solid, SolidInstance, MAX_SOLIDS};
 use super::textures::CascadeTextures;
 use crate::lod::{OceanLod, PatchInstance};
 use crate::render::camera::Globals;
@@ -44,6 +45,8 @@ pub(super) struct Slot {
     pub staging: Buffer,
     /// Mapped per-instance vertex data.
     pub instances: Buffer,
+    /// Mapped per-instance data of the solids, grouped by shape.
+    pub solids: Buffer,
     globals: Buffer,
     /// Set 0 of the pipeline: the globals and both texture arrays.
     pub set: vk::DescriptorSet,
@@ -144,6 +147,7 @@ impl Slot {
             fence: vk::Fence::null(),
             staging: Buffer::null(),
             instances: Buffer::null(),
+            solids: Buffer::null(),
             globals: Buffer::null(),
             set: vk::DescriptorSet::null(),
             queries: vk::QueryPool::null(),
@@ -175,6 +179,12 @@ impl Slot {
         self.instances = Buffer::new(
             ctx,
             instance_bytes as u64,
+            vk::BufferUsageFlags::VERTEX_BUFFER,
+            host,
+        )?;
+        self.solids = Buffer::new(
+            ctx,
+            (MAX_SOLIDS * std::mem::size_of::<SolidInstance>()) as u64,
             vk::BufferUsageFlags::VERTEX_BUFFER,
             host,
         )?;
@@ -256,6 +266,31 @@ impl Slot {
         Ok(instances.len() as u32)
     }
 
+    /// Writes the solids' instances grouped by shape (in [`Shape::ALL`] order); returns each
+    /// shape's first instance and count. Allocates nothing.
+    pub fn write_solids(&mut self, solids: &[Solid]) -> Result<[(u32, u32); 3], RenderError> {
+        if solids.len() > MAX_SOLIDS {
+            return Err(RenderError::Invalid(format!(
+                "{} solids: at most {MAX_SOLIDS} (every body and the deck)",
+                solids.len()
+            )));
+        }
+        let size = std::mem::size_of::<SolidInstance>();
+        let bytes = self.solids.bytes_mut();
+        let mut draws = [(0, 0); 3];
+        let mut n = 0;
+        for (draw, shape) in draws.iter_mut().zip(Shape::ALL) {
+            draw.0 = n as u32;
+            for s in solids.iter().filter(|s| s.kind.shape() == shape) {
+                let instance = SolidInstance::of(s);
+                bytes[n * size..(n + 1) * size].copy_from_slice(bytemuck::bytes_of(&instance));
+                n += 1;
+            }
+            draw.1 = n as u32 - draw.0;
+        }
+        Ok(draws)
+    }
+
     /// Resets the command pool and begins the command buffer (the fence has signalled).
     pub fn begin(&self, ctx: &GpuContext) -> Result<(), RenderError> {
         let d = &ctx.device;
@@ -290,6 +325,7 @@ impl Slot {
         let d = &ctx.device;
         self.staging.destroy(ctx);
         self.instances.destroy(ctx);
+        self.solids.destroy(ctx);
         self.globals.destroy(ctx);
         // SAFETY: the slot's fence has signalled or it never was submitted; null handles are
         // no-ops; destroying the pool frees the command buffer.

@@ -255,6 +255,7 @@ impl FrameLoop for HeadlessXr {
             views: eye_views(position, orientation),
             should_render: true,
             tweaks: [None; MAX_TWEAKS],
+            hands: [None; 2],
         };
         self.frame += 1;
         Ok(Some(state))

@@ -12,6 +12,7 @@ use super::error::{check, Call, CallError};
 use super::lifecycle::{self, Action, Event, ExitReason};
 use super::{backend, next_preset, FramePoll, OpenXr, Pending, EXIT_SIGNAL, LOCAL_EYE_HEIGHT};
 use crate::base::{EyeView, Fov};
+use crate::physics::{HandInput, Pose};
 use crate::xr::{FrameState, Tweak, XrError, MAX_TWEAKS};
 
 impl OpenXr {
@@ -98,6 +99,7 @@ impl OpenXr {
                 fov: fov(v.fov),
             }
         });
+        let hands = self.locate_hands(time);
         let should_render = located.is_some();
         if !should_render {
             self.stats.summary.frames_not_rendered += 1;
@@ -116,6 +118,7 @@ impl OpenXr {
             views,
             should_render,
             tweaks,
+            hands,
         };
         self.index += 1;
         Ok(frame)
@@ -252,6 +255,27 @@ impl OpenXr {
             }
         }
         Ok(Some(views))
+    }
+
+    /// Both hands at `time` in the world (after the frame's input was read and the user
+    /// moved), for grabbing and throwing; none while the session is not focused.
+    fn locate_hands(&self, time: xr::Time) -> [Option<HandInput>; 2] {
+        if !self.lifecycle.focused() {
+            return [None; 2];
+        }
+        let s = self.session();
+        let turn = Quat::from_rotation_y(self.locomotion.yaw());
+        s.input.hands(&s.session, &s.space, time).map(|h| {
+            h.map(|h| {
+                let (position, rotation) = self.locomotion.to_world(h.position, h.orientation);
+                HandInput {
+                    grip: h.grip,
+                    pose: Pose { position, rotation },
+                    linvel: turn * h.linvel,
+                    angvel: turn * h.angvel,
+                }
+            })
+        })
     }
 
     /// Reads the controllers, moves the user and collects the tweaks of this frame.

@@ -10,8 +10,12 @@
 //! | wind +1 m/s (repeats while held) | right trigger | right select |
 //! | wind −1 m/s | left trigger | left select |
 //! | recenter on the deck (hold 1 s, haptic tick) | B | left menu |
+//! | grab a floating body (haptic tick), let go to throw | grip (squeeze), either hand | — |
+//!
+//! The hands' grip poses are located with their velocities (`xrLocateSpace` with
+//! `XrSpaceVelocity`) in the session's space each frame, for grabbing and throwing.
 
-use glam::Vec2;
+use glam::{Quat, Vec2, Vec3};
 use openxr as xr;
 
 /// Action paths of one interaction profile.
@@ -25,7 +29,15 @@ struct Profile {
     wind_up: &'static str,
     wind_down: &'static str,
     recenter: &'static str,
+    /// Each hand's squeeze (grab), where the controller has one.
+    squeeze: Option<[&'static str; 2]>,
 }
+
+/// Grip poses of the left and right hand (every profile has them).
+const GRIP_POSES: [&str; 2] = [
+    "/user/hand/left/input/grip/pose",
+    "/user/hand/right/input/grip/pose",
+];
 
 /// A profile of the Touch family: the same controls on every model.
 const fn touch(path: &'static str, usable: fn(&xr::InstanceExtensions) -> bool) -> Profile {
@@ -38,6 +50,10 @@ const fn touch(path: &'static str, usable: fn(&xr::InstanceExtensions) -> bool) 
         wind_up: "/user/hand/right/input/trigger/value",
         wind_down: "/user/hand/left/input/trigger/value",
         recenter: "/user/hand/right/input/b/click",
+        squeeze: Some([
+            "/user/hand/left/input/squeeze/value",
+            "/user/hand/right/input/squeeze/value",
+        ]),
     }
 }
 
@@ -60,6 +76,7 @@ const PROFILES: [Profile; 4] = [
         wind_up: "/user/hand/right/input/select/click",
         wind_down: "/user/hand/left/input/select/click",
         recenter: "/user/hand/left/input/menu/click",
+        squeeze: None,
     },
 ];
 
@@ -143,6 +160,21 @@ pub struct InputFrame {
     pub recenter: bool,
 }
 
+/// One hand located this frame, in the session's space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HandPose {
+    /// Squeeze, 0 open to 1 closed.
+    pub grip: f32,
+    /// Grip pose position (m).
+    pub position: Vec3,
+    /// Grip pose orientation.
+    pub orientation: Quat,
+    /// Linear velocity (m/s); zero where the runtime does not know it.
+    pub linvel: Vec3,
+    /// Angular velocity (rad/s); zero where the runtime does not know it.
+    pub angvel: Vec3,
+}
+
 /// The action set and its actions.
 pub struct Input {
     set: xr::ActionSet,
@@ -153,6 +185,12 @@ pub struct Input {
     wind_down: xr::Action<f32>,
     recenter: xr::Action<bool>,
     haptic: xr::Action<xr::Haptic>,
+    grip_pose: xr::Action<xr::Posef>,
+    squeeze: xr::Action<f32>,
+    /// The left and right hand's paths (subaction paths).
+    hands: [xr::Path; 2],
+    /// The grip poses' action spaces, made when the set is attached.
+    grip_spaces: Option<[xr::Space; 2]>,
     right: xr::Path,
     up: TriggerRepeat,
     down: TriggerRepeat,
@@ -195,6 +233,12 @@ impl Input {
         let haptic = set
             .create_action::<xr::Haptic>("tick", "Haptic tick", &[left, right])
             .map_err(|e| err("tick", e))?;
+        let grip_pose = set
+            .create_action::<xr::Posef>("hand_pose", "Hand pose", &[left, right])
+            .map_err(|e| err("hand_pose", e))?;
+        let squeeze = set
+            .create_action::<f32>("grab", "Grab a floating body", &[left, right])
+            .map_err(|e| err("grab", e))?;
         for p in PROFILES.iter().filter(|p| (p.usable)(instance.exts())) {
             let path = |s: &str| instance.string_to_path(s);
             let suggest = || -> Result<(), xr::sys::Result> {
@@ -213,6 +257,12 @@ impl Input {
                 if let Some(t) = p.turn {
                     b.push(xr::Binding::new(&turn, path(t)?));
                 }
+                for g in GRIP_POSES {
+                    b.push(xr::Binding::new(&grip_pose, path(g)?));
+                }
+                for s in p.squeeze.into_iter().flatten() {
+                    b.push(xr::Binding::new(&squeeze, path(s)?));
+                }
                 instance.suggest_interaction_profile_bindings(profile, &b)
             };
             match suggest() {
@@ -229,6 +279,10 @@ impl Input {
             wind_down,
             recenter,
             haptic,
+            grip_pose,
+            squeeze,
+            hands: [left, right],
+            grip_spaces: None,
             right,
             up: TriggerRepeat::default(),
             down: TriggerRepeat::default(),
@@ -236,11 +290,82 @@ impl Input {
         })
     }
 
-    /// Attaches the action set to `session` (once, before the first sync).
-    pub fn attach(&self, session: &xr::Session<xr::Vulkan>) -> Result<(), String> {
+    /// Attaches the action set to `session` (once, before the first sync) and makes the
+    /// hands' grip spaces.
+    pub fn attach(&mut self, session: &xr::Session<xr::Vulkan>) -> Result<(), String> {
         session
             .attach_action_sets(&[&self.set])
-            .map_err(|e| format!("xrAttachSessionActionSets: {e:?} ({e})"))
+            .map_err(|e| format!("xrAttachSessionActionSets: {e:?} ({e})"))?;
+        let space = |hand| {
+            self.grip_pose
+                .create_space(session, hand, xr::Posef::IDENTITY)
+                .map_err(|e| format!("xrCreateActionSpace (grip pose): {e:?} ({e})"))
+        };
+        self.grip_spaces = Some([space(self.hands[0])?, space(self.hands[1])?]);
+        Ok(())
+    }
+
+    /// Both hands at `time` in `base` (after [`Input::read`] synced the actions this frame):
+    /// `None` for a hand whose controller is off, untracked or has no squeeze. Allocates
+    /// nothing.
+    pub fn hands(
+        &self,
+        session: &xr::Session<xr::Vulkan>,
+        base: &xr::Space,
+        time: xr::Time,
+    ) -> [Option<HandPose>; 2] {
+        let Some(spaces) = self.grip_spaces.as_ref() else {
+            return [None; 2];
+        };
+        let mut out = [None; 2];
+        for ((o, space), &hand) in out.iter_mut().zip(spaces).zip(&self.hands) {
+            *o = self.hand(session, space, hand, base, time);
+        }
+        out
+    }
+
+    fn hand(
+        &self,
+        session: &xr::Session<xr::Vulkan>,
+        space: &xr::Space,
+        hand: xr::Path,
+        base: &xr::Space,
+        time: xr::Time,
+    ) -> Option<HandPose> {
+        let squeeze = self.squeeze.state(session, hand).ok()?;
+        if !squeeze.is_active {
+            return None;
+        }
+        let (location, velocity) = match space.relate(base, time) {
+            Ok(r) => r,
+            Err(e) => {
+                log::warn!("xrLocateSpace (hand): {e:?} ({e})");
+                return None;
+            }
+        };
+        let need =
+            xr::SpaceLocationFlags::POSITION_VALID | xr::SpaceLocationFlags::ORIENTATION_VALID;
+        if !location.location_flags.contains(need) {
+            return None;
+        }
+        let v3 = |v: xr::Vector3f| Vec3::new(v.x, v.y, v.z);
+        let flags = velocity.velocity_flags;
+        let q = location.pose.orientation;
+        Some(HandPose {
+            grip: squeeze.current_state,
+            position: v3(location.pose.position),
+            orientation: Quat::from_xyzw(q.x, q.y, q.z, q.w).normalize(),
+            linvel: if flags.contains(xr::SpaceVelocityFlags::LINEAR_VALID) {
+                v3(velocity.linear_velocity)
+            } else {
+                Vec3::ZERO
+            },
+            angvel: if flags.contains(xr::SpaceVelocityFlags::ANGULAR_VALID) {
+                v3(velocity.angular_velocity)
+            } else {
+                Vec3::ZERO
+            },
+        })
     }
 
     /// Syncs the actions and reads this frame's input (`dt` s since the last frame).
@@ -284,11 +409,22 @@ impl Input {
 
     /// A short tick on the right controller (preset changed, recentred).
     pub fn tick(&self, session: &xr::Session<xr::Vulkan>) {
+        self.tick_path(session, self.right);
+    }
+
+    /// A short tick on hand `hand` (0 left, 1 right): it grabbed a body.
+    pub fn tick_hand(&self, session: &xr::Session<xr::Vulkan>, hand: usize) {
+        if let Some(&path) = self.hands.get(hand) {
+            self.tick_path(session, path);
+        }
+    }
+
+    fn tick_path(&self, session: &xr::Session<xr::Vulkan>, path: xr::Path) {
         let vibration = xr::HapticVibration::new()
             .amplitude(0.6)
             .frequency(xr::FREQUENCY_UNSPECIFIED)
             .duration(xr::Duration::from_nanos(30_000_000));
-        if let Err(e) = self.haptic.apply_feedback(session, self.right, &vibration) {
+        if let Err(e) = self.haptic.apply_feedback(session, path, &vibration) {
             log::warn!("haptic feedback: {e:?} ({e})");
         }
     }

@@ -102,6 +102,8 @@ impl Default for OpenXrOptions {
 pub const IDLE_POLL: Duration = Duration::from_millis(10);
 
 /// What [`OpenXr::poll_frame`] found.
+// Returned by value once a frame and unpacked at once: boxing the frame would allocate a frame.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Copy, Debug)]
 pub enum FramePoll {
     /// The next frame, begun: render it (when it should) and end it.
@@ -506,6 +508,12 @@ impl FrameLoop for OpenXr {
 
     fn report_gpu_time(&mut self, gpu: Duration) {
         self.last_gpu = Some(gpu);
+    }
+
+    fn haptic_tick(&mut self, hand: usize) {
+        if let Some(s) = self.session.as_ref() {
+            s.input.tick_hand(&s.session, hand);
+        }
     }
 }
 

@@ -117,7 +117,7 @@ impl Session {
             origin_height,
         };
         let (colour, depth) = swapchains(instance, &session, settings)?;
-        let input = Input::new(instance).map_err(backend)?;
+        let mut input = Input::new(instance).map_err(backend)?;
         input.attach(&session).map_err(backend)?;
         Ok((
             Self {

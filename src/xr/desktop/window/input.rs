@@ -17,6 +17,7 @@ pub const KEYS_HELP: &str = concat!(
     "  mouse    look around while a mouse button is held\n",
     "  1/2      wind speed -/+ 1 m/s  3/4    wind direction -/+ 15 deg\n",
     "  5/6      choppiness -/+ 0.1    F1-F4  quality low/medium/high/ultra\n",
+    "  Space    throw a crate along the view\n",
     "  Esc      quit (or close the window)",
 );
 
@@ -50,6 +51,7 @@ pub fn tweak_for_key(code: KeyCode) -> Option<Tweak> {
         KeyCode::F2 => Tweak::Preset(QualityPreset::Medium),
         KeyCode::F3 => Tweak::Preset(QualityPreset::High),
         KeyCode::F4 => Tweak::Preset(QualityPreset::Ultra),
+        KeyCode::Space => Tweak::Throw,
         _ => return None,
     })
 }
@@ -121,8 +123,8 @@ impl ApplicationHandler for Input {
                 if code == KeyCode::Escape {
                     self.quit = true;
                 } else if let Some(t) = tweak_for_key(code) {
-                    // Holding a wave key repeats it; a preset switch happens once.
-                    if !(event.repeat && matches!(t, Tweak::Preset(_))) {
+                    // Holding a wave key repeats it; a preset switch or a throw happens once.
+                    if !(event.repeat && matches!(t, Tweak::Preset(_) | Tweak::Throw)) {
                         self.push_tweak(t);
                     }
                 }

@@ -344,6 +344,7 @@ impl FrameLoop for WindowXr {
             views: eye_views(position, orientation),
             should_render: extent.width >= 2 && extent.height > 0,
             tweaks: self.input.take_tweaks(),
+            hands: [None; 2],
         };
         self.frame += 1;
         Ok(Some(state))

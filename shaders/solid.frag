@@ -1,0 +1,62 @@
+#version 450
+// Solid things lit by the sea's sun and sky: diffuse sun (no shadows), the sky's light from the
+// hemisphere the face looks at, a faint sheen, and the same fog as the water.
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+
+layout(location = 0) in vec3 v_world;
+layout(location = 1) in vec3 v_normal;
+layout(location = 2) flat in vec4 v_colour;
+layout(location = 3) flat in vec3 v_eye;
+layout(location = 0) out vec4 o_colour;
+
+// Sun irradiance on a face turned to it, per unit of `g.sun.w` (relative units of `sky()`).
+const float SUN_DIFFUSE = 0.12;
+// How much of the sky a face sees (irradiance from a hemisphere of `sky()` radiance).
+const float SKY_DIFFUSE = 0.75;
+// Light the sea reflects up onto faces looking down.
+const float SEA_BOUNCE = 0.08;
+// A held body glows this much so the hand knows what it has.
+const float HELD_GLOW = 0.35;
+// Deck planks: width (m) and the dark seam between them (m).
+const float PLANK_WIDTH = 0.14;
+const float PLANK_SEAM = 0.008;
+
+// Planks along z on the deck's top: each a little lighter or darker, dark seams between.
+vec3 planks(vec3 albedo, vec3 p, vec3 n) {
+    if (n.y < 0.5) {
+        return albedo;
+    }
+    float u = p.x / PLANK_WIDTH;
+    float plank = floor(u);
+    float shade = 0.85 + 0.3 * fract(sin(plank * 12.9898) * 43758.5453);
+    float edge = min(fract(u), 1.0 - fract(u)) * PLANK_WIDTH;
+    // Filtered by the pixel footprint so far seams fade instead of aliasing.
+    float w = max(fwidth(p.x), 1e-4);
+    float seam = 1.0 - smoothstep(PLANK_SEAM - w, PLANK_SEAM + w, edge);
+    return albedo * shade * mix(1.0, 0.35, seam * clamp(PLANK_SEAM / w, 0.0, 1.0));
+}
+
+void main() {
+    vec3 n = normalize(v_normal);
+    vec3 view = v_eye - v_world;
+    float dist = length(view);
+    vec3 v = view / max(dist, 1e-4);
+    if (dot(n, v) < 0.0) {
+        n = -n;
+    }
+    vec3 l = g.sun.xyz;
+    // Colour alpha: 0 plain, 1 held (glows), 2 deck planks.
+    bool deck = v_colour.a > 1.5;
+    vec3 albedo = deck ? planks(v_colour.rgb, v_world, n) : v_colour.rgb;
+    float sun = max(dot(n, l), 0.0) * SUN_DIFFUSE * g.sun.w;
+    // The sky seen along the normal, bent up so faces looking sideways see the horizon's light.
+    vec3 up = normalize(vec3(n.x, max(n.y, 0.0) + 0.2, n.z));
+    vec3 ambient = sky_diffuse(up) * SKY_DIFFUSE * (0.5 + 0.5 * n.y)
+                 + fog_colour(n) * SEA_BOUNCE * max(-n.y, 0.0);
+    vec3 colour = albedo * (vec3(1.0, 0.95, 0.85) * sun + ambient);
+    colour += albedo * HELD_GLOW * (deck ? 0.0 : v_colour.a);
+    float fog = 1.0 - exp(-dist / g.params.z);
+    colour = mix(colour, fog_colour(-v), fog);
+    o_colour = vec4(colour, 1.0);
+}

@@ -1,0 +1,192 @@
+//! The app's floating bodies: the physics world ([`Floaters`]) hosted in the frame loop, the
+//! user's hands and throw key applied to it, and what the renderer draws of it (the bodies and
+//! the deck as [`Solid`]s).
+//!
+//! Each frame, after the simulation's surfaces for the frame are in: the hands are applied,
+//! then [`Floaters::advance`] runs the fixed steps the frame's period holds (reading those
+//! surfaces), then the interpolated poses become this frame's solids. The world is made on the
+//! first frame, where the deck can be put under the viewer and the bodies need a sea to float
+//! at their draft; a body that drifts out of sight is brought back (see [`RESPAWN_DISTANCE`]).
+//! Nothing here allocates per frame in steady state (rapier's own step aside: see
+//! `tests/physics_no_alloc.rs`).
+
+use std::time::Duration;
+
+use glam::{Vec2, Vec3};
+
+use crate::physics::hands::GRAB_REACH;
+use crate::physics::{
+    BodyCount, BodyKind, Floaters, Hand, HandEvent, HandInput, HandState, PhysicsConfig,
+    PhysicsError,
+};
+use crate::render::ocean::{Solid, SolidKind, MAX_SOLIDS};
+use crate::sim::Surfaces;
+use crate::xr::FrameState;
+
+/// Speed of a crate thrown with the window's throw key (m/s): an easy underarm throw.
+pub const THROW_SPEED: f32 = 9.0;
+
+/// A body farther than this from the viewer (horizontally, m) has drifted out of the scene
+/// and is put back on the water near the viewer: the sea's drift and throws would otherwise
+/// empty it over a long session.
+pub const RESPAWN_DISTANCE: f32 = 150.0;
+
+/// Height of a standing user's eyes above the floor (m): where a desktop view's deck goes.
+pub const EYE_HEIGHT: f32 = 1.7;
+
+/// The lowest deck (its top, m above the mean sea level) put under a desktop view: below it
+/// the waves would wash over it, so a head lower than this plus [`EYE_HEIGHT`] (a path along
+/// the shore) gets no deck.
+pub const MIN_DECK_HEIGHT: f32 = 1.0;
+
+/// Where the deck goes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DeckPlacement {
+    /// Centred on the origin, its top at this height (m): the OpenXR tracking floor.
+    At(f32),
+    /// Under the first frame's head, [`EYE_HEIGHT`] below it (desktop views: the window's
+    /// start, a camera path's first key); none when that is below [`MIN_DECK_HEIGHT`].
+    UnderViewer,
+}
+
+/// What a run floats.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FloatOptions {
+    /// Bodies spawned around the viewer (0 = none; the deck is still drawn).
+    pub bodies: BodyCount,
+    /// Where the deck goes.
+    pub deck: DeckPlacement,
+}
+
+/// The physics world of a run and what it draws.
+pub struct Afloat {
+    opts: FloatOptions,
+    /// Made on the first frame.
+    world: Option<Floaters>,
+    hands: [Hand; 2],
+    solids: Vec<Solid>,
+}
+
+impl Afloat {
+    /// Checks `opts`; the world is made on the first frame.
+    pub fn new(opts: &FloatOptions) -> Result<Self, PhysicsError> {
+        if let DeckPlacement::At(h) = opts.deck {
+            PhysicsConfig::with_deck_height(h).validate()?;
+        }
+        Ok(Self {
+            opts: *opts,
+            world: None,
+            hands: [Hand::new(); 2],
+            solids: Vec::with_capacity(MAX_SOLIDS),
+        })
+    }
+
+    /// The physics world, once the first frame made it.
+    pub fn world(&self) -> Option<&Floaters> {
+        self.world.as_ref()
+    }
+
+    /// The world for the first frame's head at `viewer`, with its bodies around it.
+    fn make_world(&self, viewer: Vec3, surfaces: &Surfaces) -> Result<Floaters, PhysicsError> {
+        let mut config = PhysicsConfig::default();
+        match self.opts.deck {
+            DeckPlacement::At(h) => config = PhysicsConfig::with_deck_height(h),
+            DeckPlacement::UnderViewer => {
+                let top = viewer.y - EYE_HEIGHT;
+                config.deck = config.deck.filter(|_| top >= MIN_DECK_HEIGHT).map(|mut d| {
+                    d.height = top;
+                    d.centre = [viewer.x, viewer.z];
+                    d
+                });
+            }
+        }
+        let mut world = Floaters::new(config)?;
+        world.spawn_around(self.opts.bodies, Vec2::new(viewer.x, viewer.z), surfaces)?;
+        Ok(world)
+    }
+
+    /// One frame: spawn (first frame), hands, fixed steps for the frame's period on
+    /// `surfaces`, respawn what drifted away, and this frame's solids. Returns the hands that
+    /// grabbed something this frame (a haptic tick each).
+    pub fn advance(
+        &mut self,
+        frame: &FrameState,
+        surfaces: &Surfaces,
+    ) -> Result<[bool; 2], PhysicsError> {
+        let viewer = (frame.views[0].position + frame.views[1].position) * 0.5;
+        if self.world.is_none() {
+            self.world = Some(self.make_world(viewer, surfaces)?);
+        }
+        let Some(world) = self.world.as_mut() else {
+            unreachable!("made above");
+        };
+        let mut ticks = [false; 2];
+        for ((hand, input), tick) in self.hands.iter_mut().zip(&frame.hands).zip(&mut ticks) {
+            *tick = drive_hand(world, hand, input.as_ref());
+        }
+        world.advance(Duration::from_secs_f64(frame.period.max(0.0)), surfaces);
+        world.bring_back(Vec2::new(viewer.x, viewer.z), RESPAWN_DISTANCE, surfaces);
+        self.solids.clear();
+        if let Some(deck) = world.deck() {
+            self.solids.push(Solid {
+                kind: SolidKind::Deck,
+                model: deck.model(),
+                highlight: false,
+            });
+        }
+        let hovered = |id| {
+            self.hands
+                .iter()
+                .any(|h| matches!(h.state(), HandState::Hovering(b) if b == id))
+        };
+        for b in world.instances() {
+            self.solids.push(Solid {
+                kind: match b.kind {
+                    BodyKind::Buoy => SolidKind::Buoy,
+                    BodyKind::Crate => SolidKind::Crate,
+                    BodyKind::Boat => SolidKind::Boat,
+                },
+                model: b.model,
+                highlight: b.held || hovered(b.id),
+            });
+        }
+        Ok(ticks)
+    }
+
+    /// Throws a crate from the head of `frame` along its view (the window's throw key).
+    /// Before the first frame there is no world to throw into: nothing happens.
+    pub fn throw(&mut self, frame: &FrameState) -> Result<(), PhysicsError> {
+        let Some(world) = self.world.as_mut() else {
+            return Ok(());
+        };
+        let head = (frame.views[0].position + frame.views[1].position) * 0.5;
+        let forward = frame.views[0].orientation * Vec3::NEG_Z;
+        world.throw_from(head, forward, THROW_SPEED).map(|_| ())
+    }
+
+    /// This frame's solids: the deck, then every live body.
+    pub fn solids(&self) -> &[Solid] {
+        &self.solids
+    }
+}
+
+/// One hand's frame: its state machine, the command it gives, and whether it grabbed (haptic).
+/// A hand without input this frame (not tracked) lets go of nothing and grabs nothing.
+fn drive_hand(world: &mut Floaters, hand: &mut Hand, input: Option<&HandInput>) -> bool {
+    let Some(input) = input else {
+        return false;
+    };
+    let nearest = world
+        .nearest_body(input.pose.position, GRAB_REACH)
+        .and_then(|id| world.pose(id).map(|p| (id, p.position)));
+    let step = hand.update(input, nearest);
+    if let Some(command) = step.command {
+        if let Err(e) = world.apply(&command) {
+            // The body sank or was replaced under the hand: let go of it.
+            log::warn!("hand: {e}");
+            hand.cancel();
+            return false;
+        }
+    }
+    matches!(step.event, Some(HandEvent::Grabbed(_)))
+}
