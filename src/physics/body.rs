@@ -245,9 +245,11 @@ pub struct Hull {
 }
 
 impl Hull {
-    /// The columns of `spec`: a 3 × 3 grid for a crate, the 12 cells of a 4 × 4 grid whose
-    /// centres lie inside a buoy's circle (areas scaled to the circle's), 3 across × 5 along
-    /// a boat (bottoms following its sloped hull).
+    /// The columns of `spec`: a 2 × 2 grid for a crate, a 3 × 3 grid over a buoy's circle
+    /// (areas scaled to the circle's), 2 across × 4 along a boat (bottoms following its sloped
+    /// hull). Two columns per axis are the fewest that give the water a righting moment; these
+    /// counts (51 sample points per eight bodies of the default mix, where 3 × 3, 12 and
+    /// 3 × 5 took 87) keep a 64-body step inside its budget (BENCHMARKS.md, physics).
     pub fn of(spec: &BodySpec) -> Self {
         let mut hull = Self {
             columns: [Column::default(); MAX_COLUMNS],
@@ -255,10 +257,10 @@ impl Hull {
         };
         let s = spec.size();
         match spec.kind() {
-            BodyKind::Crate => hull.grid(s, 3, 3, |_, _| Some(-0.5 * s.y)),
+            BodyKind::Crate => hull.grid(s, 2, 2, |_, _| Some(-0.5 * s.y)),
             BodyKind::Buoy => {
                 let r = 0.5 * s.x;
-                hull.grid(s, 4, 4, |x, z| {
+                hull.grid(s, 3, 3, |x, z| {
                     (x * x + z * z <= r * r).then_some(-0.5 * s.y)
                 });
                 let area: f32 = hull.columns().iter().map(|c| c.area).sum();
@@ -281,7 +283,7 @@ impl Hull {
                 // A column's bottom is the hull's mean bottom over its footprint (sampled
                 // BOAT_SUBSAMPLES² times), so the columns hold the hull's volume; the bottom at
                 // the centre alone would miss the slope's kink at the bottom rectangle's edge.
-                let (nx, nz) = (3, 5);
+                let (nx, nz) = (2, 4);
                 let (dx, dz) = (s.x / nx as f32, s.z / nz as f32);
                 hull.grid(s, nx, nz, |x, z| {
                     let n = BOAT_SUBSAMPLES;

@@ -291,7 +291,8 @@ impl Input {
     }
 
     /// Attaches the action set to `session` (once, before the first sync) and makes the
-    /// hands' grip spaces.
+    /// hands' grip spaces (a runtime that refuses them leaves the session without hands,
+    /// logged: the sea is still there to look at).
     pub fn attach(&mut self, session: &xr::Session<xr::Vulkan>) -> Result<(), String> {
         session
             .attach_action_sets(&[&self.set])
@@ -299,9 +300,11 @@ impl Input {
         let space = |hand| {
             self.grip_pose
                 .create_space(session, hand, xr::Posef::IDENTITY)
-                .map_err(|e| format!("xrCreateActionSpace (grip pose): {e:?} ({e})"))
         };
-        self.grip_spaces = Some([space(self.hands[0])?, space(self.hands[1])?]);
+        match space(self.hands[0]).and_then(|l| Ok([l, space(self.hands[1])?])) {
+            Ok(spaces) => self.grip_spaces = Some(spaces),
+            Err(e) => log::warn!("xrCreateActionSpace (grip pose): {e:?} ({e}): no hands"),
+        }
         Ok(())
     }
 
