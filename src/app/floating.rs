@@ -39,13 +39,18 @@ pub const EYE_HEIGHT: f32 = 1.7;
 /// the shore) gets no deck.
 pub const MIN_DECK_HEIGHT: f32 = 1.0;
 
+/// The highest: a big ship's deck. A head higher than this plus [`EYE_HEIGHT`] (an aerial
+/// path) is not standing on anything, so it gets no deck.
+pub const MAX_DECK_HEIGHT: f32 = 8.0;
+
 /// Where the deck goes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum DeckPlacement {
     /// Centred on the origin, its top at this height (m): the OpenXR tracking floor.
     At(f32),
     /// Under the first frame's head, [`EYE_HEIGHT`] below it (desktop views: the window's
-    /// start, a camera path's first key); none when that is below [`MIN_DECK_HEIGHT`].
+    /// start, a camera path's first key); none when that is outside [`MIN_DECK_HEIGHT`] to
+    /// [`MAX_DECK_HEIGHT`].
     UnderViewer,
 }
 
@@ -93,11 +98,14 @@ impl Afloat {
             DeckPlacement::At(h) => config = PhysicsConfig::with_deck_height(h),
             DeckPlacement::UnderViewer => {
                 let top = viewer.y - EYE_HEIGHT;
-                config.deck = config.deck.filter(|_| top >= MIN_DECK_HEIGHT).map(|mut d| {
-                    d.height = top;
-                    d.centre = [viewer.x, viewer.z];
-                    d
-                });
+                config.deck = config
+                    .deck
+                    .filter(|_| (MIN_DECK_HEIGHT..=MAX_DECK_HEIGHT).contains(&top))
+                    .map(|mut d| {
+                        d.height = top;
+                        d.centre = [viewer.x, viewer.z];
+                        d
+                    });
             }
         }
         let mut world = Floaters::new(config)?;
