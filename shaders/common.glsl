@@ -1,5 +1,5 @@
-// Shared by every shader: the per-frame globals (std140, `render::frame::Globals` on the CPU
-// side, keep both in sync) and the procedural sky.
+// Shared by every shader: the per-frame globals (std140, `render::camera::Globals` on the CPU
+// side, keep both in sync), the sky from its environment map, and the tone mapping.
 
 layout(set = 0, binding = 0, std140) uniform Globals {
     // Per eye: projection (reversed-Z, infinite far) × view.
@@ -10,7 +10,7 @@ layout(set = 0, binding = 0, std140) uniform Globals {
     vec4 eye_pos[2];
     // xyz: the viewer the LOD measured morph distances from; w: simulation time (s).
     vec4 lod_viewer;
-    // xyz: unit direction towards the sun; w: sun intensity.
+    // xyz: unit direction towards the sun; w: unused.
     vec4 sun;
     // Patch size L (m) of cascades 0..3.
     vec4 patch_size;
@@ -19,7 +19,8 @@ layout(set = 0, binding = 0, std140) uniform Globals {
     // Distance (m) at which it is gone (its waves would alias on the coarser mesh there).
     vec4 fade_end;
     // x: cascade count, y: FFT grid side N, z: fog distance (m), w: 1 = paint the sky magenta
-    // (tests: any magenta below the horizon is a crack).
+    // (tests: any magenta below the horizon is a crack), 2 = paint it with the tone-map test
+    // ramp.
     vec4 params;
     // Specular anti-aliasing. x: slope variance of the waves too short for any cascade;
     // y: 1 = on; z: Toksvig variance of level-0 normals (the material's); w: GGX alpha^2 of
@@ -28,34 +29,80 @@ layout(set = 0, binding = 0, std140) uniform Globals {
     // Per whitecap level (`sim::whitecaps`): the window's centre x, z (m), the lattice spacing
     // (m) and the level's mean coverage (negative: whitecaps off).
     vec4 whitecaps[2];
+    // The sun disc's radiance (rgb, kcd/m²), w: the cosine of its angular radius.
+    vec4 sun_radiance;
+    // Sun illuminance at normal incidence (rgb, klux), w: exposure (kcd/m² to tonemap input).
+    vec4 sun_illuminance;
+    // The sky dome's illuminance on a horizontal surface (rgb, klux), w: env-map levels.
+    vec4 sky_illuminance;
 } g;
 
 const float PI = 3.14159265;
 
-// Radiance of the sky along unit direction `d` (linear RGB): a zenith-to-horizon gradient, a
-// sun glow and disc. Below the horizon it keeps the horizon colour, the colour fog fades to.
+// The sky's prefiltered environment map (`render::ocean::sky_map`, Preetham, kcd/m²): u the
+// azimuth from +x toward +z over 2π (REPEAT), v = sqrt(elevation / (π/2)) (row 0 the horizon,
+// CLAMP), level m prefiltered for GGX roughness m / (levels − 1). The sun disc is not in it.
+layout(set = 0, binding = 4) uniform sampler2DArray u_sky;
+
+// Env-map coordinates of unit direction `d`; below the horizon it reads the horizon.
+vec2 sky_uv(vec3 d) {
+    float u = atan(d.z, d.x) * (0.5 / PI);
+    float e = asin(clamp(d.y, 0.0, 1.0));
+    return vec2(u, sqrt(e * (2.0 / PI)));
+}
+
+// Sky radiance (linear sRGB, kcd/m²) along unit `d`, prefiltered for GGX roughness `rough`.
+vec3 sky_env(vec3 d, float rough) {
+    float level = clamp(rough, 0.0, 1.0) * (g.sky_illuminance.w - 1.0);
+    return textureLod(u_sky, vec3(sky_uv(d), 0.0), level).rgb;
+}
+
+// The sun's disc seen along unit `d` (kcd/m²), its edge a hundredth of its radius wide.
+vec3 sun_disc(vec3 d) {
+    float c = dot(d, g.sun.xyz);
+    float edge = 0.01 * (1.0 - g.sun_radiance.w);
+    return g.sun_radiance.rgb * smoothstep(g.sun_radiance.w - edge, g.sun_radiance.w + edge, c);
+}
+
+// Radiance of the sky along unit `d`, with the sun's disc (kcd/m²).
 vec3 sky(vec3 d) {
-    vec3 zenith = vec3(0.10, 0.28, 0.62);
-    vec3 horizon = vec3(0.62, 0.74, 0.86);
-    float up = clamp(d.y, 0.0, 1.0);
-    vec3 c = mix(horizon, zenith, pow(up, 0.45));
-    float s = max(dot(d, g.sun.xyz), 0.0);
-    c += vec3(1.0, 0.85, 0.6) * (0.25 * pow(s, 8.0) + 0.6 * pow(s, 256.0));
-    c += vec3(1.0, 0.95, 0.85) * g.sun.w * smoothstep(0.99985, 0.99995, s);
-    return c;
+    return sky_env(d, 0.0) + sun_disc(d);
 }
 
-// Sky light without the sun's disc and glow: what a diffuse face facing `d` is lit by.
-vec3 sky_diffuse(vec3 d) {
-    vec3 zenith = vec3(0.10, 0.28, 0.62);
-    vec3 horizon = vec3(0.62, 0.74, 0.86);
-    return mix(horizon, zenith, pow(clamp(d.y, 0.0, 1.0), 0.45));
-}
-
-// The colour distant water fades to along horizontal direction `d`: the sky just above the
-// horizon there, so the ocean meets the sky without a seam.
+// The radiance distant things fade to along `d`: the sky at the horizon at the same azimuth,
+// so the ocean meets the sky without a seam.
 vec3 fog_colour(vec3 d) {
     vec2 h = d.xz;
     float l = length(h);
-    return sky(l > 1e-6 ? vec3(h.x / l, 0.0, h.y / l) : vec3(1.0, 0.0, 0.0));
+    return sky_env(l > 1e-6 ? vec3(h.x / l, 0.0, h.y / l) : vec3(1.0, 0.0, 0.0), 0.0);
+}
+
+// Illuminance on a horizontal surface from the sun and the sky (klux).
+vec3 horizontal_illuminance() {
+    return g.sun_illuminance.rgb * max(g.sun.y, 0.0) + g.sky_illuminance.rgb;
+}
+
+// Khronos PBR Neutral tone mapping: linear in, linear out in [0, 1] (the sRGB target encodes).
+// Below 0.76 colours pass unchanged but for a small black offset; above, the peak is
+// compressed toward 1 and desaturated so the brightest lights go white, not clipped hues.
+const float PBR_NEUTRAL_START = 0.8 - 0.04;
+const float PBR_NEUTRAL_DESATURATION = 0.15;
+vec3 tonemap(vec3 c) {
+    float x = min(c.r, min(c.g, c.b));
+    float offset = x < 0.08 ? x - 6.25 * x * x : 0.04;
+    c -= offset;
+    float peak = max(c.r, max(c.g, c.b));
+    if (peak < PBR_NEUTRAL_START) {
+        return c;
+    }
+    const float d = 1.0 - PBR_NEUTRAL_START;
+    float new_peak = 1.0 - d * d / (peak + d - PBR_NEUTRAL_START);
+    c *= new_peak / peak;
+    float grey = 1.0 - 1.0 / (PBR_NEUTRAL_DESATURATION * (peak - new_peak) + 1.0);
+    return mix(c, vec3(new_peak), grey);
+}
+
+// Radiance (kcd/m²) to what the sRGB target stores: exposed, then tonemapped.
+vec3 display(vec3 radiance) {
+    return tonemap(max(radiance, vec3(0.0)) * g.sun_illuminance.w);
 }

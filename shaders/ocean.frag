@@ -1,7 +1,10 @@
 #version 450
-// Water shading: normals and foam from the cascades' RGBA8 mip chains (eq. 50-53), Schlick
-// Fresnel (IOR 1.33) between the reflected sky and the water body, a GGX sun highlight whose
-// roughness comes from the mips' smoothness, persistent foam, and fog to the horizon colour.
+// Water shading in linear HDR (kcd/m², the sky's units), exposed and tonemapped here (Khronos
+// PBR Neutral) into the sRGB target: normals and foam from the cascades' RGBA8 mip chains
+// (eq. 50-53); Schlick Fresnel (IOR 1.33) between the sky reflected from the prefiltered
+// environment map (mip by roughness) and the water body lit by the sun and the sky; a GGX sun
+// highlight with height-correlated Smith masking-shadowing whose roughness comes from the
+// mips' smoothness; foam lit like a diffuse surface; fog to the sky at the horizon.
 //
 // Specular anti-aliasing (g.specular_aa.y = 1). With no temporal filter in a headset, the far
 // sea must not sparkle:
@@ -28,6 +31,13 @@ layout(location = 0) out vec4 o_colour;
 
 // Smallest highlight roughness (`render::ocean::pass::MIN_ROUGHNESS`).
 const float MIN_ROUGHNESS = 0.06;
+// Water's reflectance at normal incidence: ((1 - 1.33) / (1 + 1.33))^2.
+const float WATER_F0 = 0.02;
+// Irradiance reflectance of the water body (the light scattered back up out of deep ocean
+// water, per channel): about 1-2 % in the blue-green, almost none in the red.
+const vec3 WATER_BODY_REFLECTANCE = vec3(0.002, 0.014, 0.022);
+// Diffuse albedo of foam (fresh foam is 0.5-0.8 over the visible).
+const vec3 FOAM_ALBEDO = vec3(0.75, 0.78, 0.8);
 // Screen-space filter: variance of the pixel footprint and the largest added alpha^2
 // (Tokuyoshi & Kaplanyan 2019).
 const float PIXEL_VARIANCE = 0.25;
@@ -150,37 +160,50 @@ Water water_at(vec2 xz, vec2 dx, vec2 dy, bool implicit) {
 vec3 shade(Water w, vec3 v, float unshown) {
     vec3 n = w.n;
     float ndotv = max(dot(n, v), 1e-3);
-    const float f0 = 0.02; // ((1 - 1.33) / (1 + 1.33))^2
-    float fresnel = f0 + (1.0 - f0) * pow(1.0 - ndotv, 5.0);
-    vec3 r = reflect(-v, n);
-    r.y = abs(r.y);
-    vec3 reflected = sky(r);
+    float fresnel = WATER_F0 + (1.0 - WATER_F0) * pow(1.0 - ndotv, 5.0);
     vec3 l = g.sun.xyz;
-    vec3 body = vec3(0.004, 0.025, 0.045) + vec3(0.0, 0.06, 0.07) * max(l.y, 0.0);
-    vec3 colour = mix(body, reflected, fresnel);
 
-    // GGX highlight; smoothness 1 is a mirror, clamped so the sun stays a few pixels wide.
+    // GGX roughness; smoothness 1 is a mirror, clamped so the sun stays a few pixels wide.
     float rough = max(1.0 - w.smoothness, MIN_ROUGHNESS);
     float a2 = rough * rough * rough * rough;
     if (unshown >= 0.0) {
         // The level-0 look, plus the slope variance this sample cannot show.
         a2 = min(g.specular_aa.w + unshown, 1.0);
     }
+    // The sky reflected, from the map level prefiltered for this roughness (α² = r⁴), the ray
+    // kept above the horizon.
+    vec3 r = reflect(-v, n);
+    r.y = abs(r.y);
+    vec3 reflected = sky_env(r, sqrt(sqrt(a2)));
+    vec3 irradiance = horizontal_illuminance();
+    vec3 body = WATER_BODY_REFLECTANCE * irradiance / PI;
+    vec3 colour = mix(body, reflected, fresnel);
+
+    // The sun: GGX D, Schlick F at the half vector, height-correlated Smith visibility.
     vec3 hv = normalize(l + v);
     float ndoth = max(dot(n, hv), 0.0);
     float ndotl = max(dot(n, l), 0.0);
     float dd = ndoth * ndoth * (a2 - 1.0) + 1.0;
     float ggx = a2 / (PI * dd * dd);
-    colour += vec3(1.0, 0.9, 0.75) * g.sun.w * ggx * fresnel * ndotl * 0.25;
+    float vis = 0.5 / (ndotl * sqrt(ndotv * ndotv * (1.0 - a2) + a2)
+                       + ndotv * sqrt(ndotl * ndotl * (1.0 - a2) + a2) + 1e-6);
+    float f_sun = WATER_F0 + (1.0 - WATER_F0) * pow(1.0 - max(dot(v, hv), 0.0), 5.0);
+    colour += g.sun_illuminance.rgb * (ggx * vis * f_sun * ndotl);
 
-    return mix(colour, vec3(0.85, 0.9, 0.92) * (0.4 + 0.6 * max(l.y, 0.0)), w.foam * 0.9);
+    vec3 foam = FOAM_ALBEDO * irradiance / PI;
+    return mix(colour, foam, w.foam * 0.9);
 }
 
 void main() {
     if (v_sky != 0u) {
         vec3 d = normalize(v_world);
         vec3 c = d.y >= 0.0 ? sky(d) : fog_colour(d);
-        o_colour = vec4(g.params.w > 0.5 ? vec3(1.0, 0.0, 1.0) : c, 1.0);
+        if (g.params.w > 1.5) {
+            // `render::ocean::TONEMAP_RAMP_TOP` at the right edge.
+            o_colour = vec4(tonemap(vec3(0.75 * (v_xz.x + 1.0))), 1.0);
+        } else {
+            o_colour = vec4(g.params.w > 0.5 ? vec3(1.0, 0.0, 1.0) : display(c), 1.0);
+        }
         return;
     }
     vec3 view = v_eye - v_world;
@@ -230,5 +253,5 @@ void main() {
 
     float fog = 1.0 - exp(-dist / g.params.z);
     colour = mix(colour, fog_colour(-v), fog);
-    o_colour = vec4(colour, 1.0);
+    o_colour = vec4(display(colour), 1.0);
 }

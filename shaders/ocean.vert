@@ -86,7 +86,8 @@ void main() {
         vec2 ndc = vec2(float(gl_VertexIndex & 1), float((gl_VertexIndex >> 1) & 1)) * 2.0 - 1.0;
         vec4 w = g.sky_from_clip[eye] * vec4(ndc, 1.0, 1.0);
         v_world = w.xyz / w.w;
-        v_xz = vec2(0.0);
+        // The sky's normalized device coordinates (the tone-map test ramp runs along x).
+        v_xz = ndc;
         v_sky = 1u;
         gl_Position = vec4(ndc, SKY_DEPTH, 1.0);
     } else {

@@ -1,6 +1,7 @@
 #version 450
-// Solid things lit by the sea's sun and sky: diffuse sun (no shadows), the sky's light from the
-// hemisphere the face looks at, a faint sheen, and the same fog as the water.
+// Solid things lit by the sea's sun and sky (linear HDR, exposed and tonemapped like the
+// water): diffuse sun (no shadows), the sky's light from the hemisphere the face looks at, the
+// sea's light on faces looking down, and the same fog as the water.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 
@@ -10,13 +11,10 @@ layout(location = 2) flat in vec4 v_colour;
 layout(location = 3) flat in vec3 v_eye;
 layout(location = 0) out vec4 o_colour;
 
-// Sun irradiance on a face turned to it, per unit of `g.sun.w` (relative units of `sky()`).
-const float SUN_DIFFUSE = 0.12;
-// How much of the sky a face sees (irradiance from a hemisphere of `sky()` radiance).
-const float SKY_DIFFUSE = 0.75;
-// Light the sea reflects up onto faces looking down.
-const float SEA_BOUNCE = 0.08;
-// A held body glows this much so the hand knows what it has.
+// Share of the horizontal illuminance the sea sends back up (its albedo, Fresnel and body).
+const float SEA_ALBEDO = 0.06;
+// A held body glows this much (share of the horizontal illuminance) so the hand knows what it
+// has.
 const float HELD_GLOW = 0.35;
 // Deck planks: width (m) and the dark seam between them (m).
 const float PLANK_WIDTH = 0.14;
@@ -49,14 +47,15 @@ void main() {
     // Colour alpha: 0 plain, 1 held (glows), 2 deck planks.
     bool deck = v_colour.a > 1.5;
     vec3 albedo = deck ? planks(v_colour.rgb, v_world, n) : v_colour.rgb;
-    float sun = max(dot(n, l), 0.0) * SUN_DIFFUSE * g.sun.w;
-    // The sky seen along the normal, bent up so faces looking sideways see the horizon's light.
-    vec3 up = normalize(vec3(n.x, max(n.y, 0.0) + 0.2, n.z));
-    vec3 ambient = sky_diffuse(up) * SKY_DIFFUSE * (0.5 + 0.5 * n.y)
-                 + fog_colour(n) * SEA_BOUNCE * max(-n.y, 0.0);
-    vec3 colour = albedo * (vec3(1.0, 0.95, 0.85) * sun + ambient);
-    colour += albedo * HELD_GLOW * (deck ? 0.0 : v_colour.a);
+    // Illuminance on the face (klux): the sun, the sky dome as much of it as the face sees,
+    // the sea below for faces turned down.
+    vec3 e_h = horizontal_illuminance();
+    vec3 e = g.sun_illuminance.rgb * max(dot(n, l), 0.0)
+           + g.sky_illuminance.rgb * (0.5 + 0.5 * n.y)
+           + SEA_ALBEDO * e_h * (0.5 - 0.5 * n.y);
+    e += HELD_GLOW * e_h * (deck ? 0.0 : v_colour.a);
+    vec3 colour = albedo * e / PI;
     float fog = 1.0 - exp(-dist / g.params.z);
     colour = mix(colour, fog_colour(-v), fog);
-    o_colour = vec4(colour, 1.0);
+    o_colour = vec4(display(colour), 1.0);
 }

@@ -112,6 +112,13 @@ fn eyes_differ_by_the_parallax_their_poses_predict() {
     // The thesis's Phillips sea: at 5 m/s its waves are lower than a fetch-limited JONSWAP
     // sea's (Hs 0.54 m), whose long swell moves the surface by a third of the 1.7 m depth.
     opts.ocean.waves.spectrum = vr_ocean::sim::SpectrumKind::Phillips { amplitude: 1.0 };
+    // The sun ahead, as high as the view looks down: its glitter fills the view with texture
+    // both eyes see (deep water seen from above is otherwise an even, dark blue).
+    opts.renderer.sun = vr_ocean::render::sky::SunSky {
+        elevation_deg: 55.0,
+        azimuth_deg: -90.0,
+        turbidity: 2.5,
+    };
     let (_, frames) = gpu::render(&opts, path, 9, 480, 480);
     let f = &frames[0];
     eprintln!("saved {}", f.save("parallax").display());

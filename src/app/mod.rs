@@ -277,6 +277,7 @@ impl<'a> Frames<'a> {
             match tweak {
                 Tweak::Preset(p) => self.switch_preset(p)?,
                 Tweak::Throw => self.throw(&frame),
+                Tweak::Sun { elevation, azimuth } => self.move_sun(elevation, azimuth)?,
                 t => live::apply_wave_tweak(&mut self.sim, t),
             }
         }
@@ -411,6 +412,25 @@ impl<'a> Frames<'a> {
             device: gpu.device_name.clone(),
         };
         (report, self.xr)
+    }
+
+    /// Moves the sun by the given degrees (the window's time-of-day keys); a sun out of range
+    /// (below −10° or above 90°) is refused with a log line and the sky stays.
+    fn move_sun(&mut self, elevation: f32, azimuth: f32) -> Result<(), AppError> {
+        let mut sun = self.renderer.settings().sun;
+        sun.elevation_deg += elevation;
+        sun.azimuth_deg = (sun.azimuth_deg + azimuth).rem_euclid(360.0);
+        if let Err(e) = sun.validate() {
+            log::warn!("sun change refused: {e}");
+            return Ok(());
+        }
+        self.renderer.set_sun(self.xr.gpu(), sun)?;
+        log::info!(
+            "sun: {:.0}° high, azimuth {:.0}°",
+            sun.elevation_deg,
+            sun.azimuth_deg
+        );
+        Ok(())
     }
 
     /// Throws a crate along the view (the window's throw key); a throw that cannot be placed

@@ -7,6 +7,8 @@ use vr_ocean::app::RunOptions;
 use vr_ocean::base::ParamError;
 use vr_ocean::lod::{LodSettings, OceanSize, QualityPreset};
 use vr_ocean::physics::{BodyCount, PhysicsError};
+use vr_ocean::render::ocean::default_sun;
+use vr_ocean::render::sky::SunSky;
 use vr_ocean::render::{
     ContextOptions, GpuContext, Msaa, RendererSettings, StereoMode, Validation,
 };
@@ -171,6 +173,17 @@ pub struct ViewArgs {
     /// 0 to 64 (0 = none).
     #[arg(long, default_value_t = DEFAULT_BODIES)]
     pub bodies: usize,
+    /// Sun elevation above the horizon (degrees, -10 to 90; below 0 is twilight) [default:
+    /// 17.5, a late-afternoon sun].
+    #[arg(long, allow_negative_numbers = true)]
+    pub sun_elevation: Option<f32>,
+    /// Sun azimuth (degrees from +x toward +z; the view starts looking along -z, i.e. -90)
+    /// [default: -61.8, ahead and to the right].
+    #[arg(long, allow_negative_numbers = true)]
+    pub sun_azimuth: Option<f32>,
+    /// Atmospheric turbidity (1.7 very clear to 10 hazy; 2-3 clear maritime air) [default: 2.5].
+    #[arg(long, allow_negative_numbers = true)]
+    pub turbidity: Option<f32>,
 }
 
 /// `--bodies` when not given.
@@ -216,12 +229,25 @@ impl ViewArgs {
                     ))?,
                 },
                 specular_aa: self.specular_aa == OnOff::On,
+                sun: self.sun()?,
                 ..RendererSettings::default()
             },
             capture,
             warmup,
             floating: None,
         })
+    }
+
+    /// The sun and the air the options ask for, validated (the error names the flag).
+    pub fn sun(&self) -> Result<SunSky, ParamError> {
+        let d = default_sun();
+        let sun = SunSky {
+            elevation_deg: self.sun_elevation.unwrap_or(d.elevation_deg),
+            azimuth_deg: self.sun_azimuth.unwrap_or(d.azimuth_deg),
+            turbidity: self.turbidity.unwrap_or(d.turbidity),
+        };
+        sun.validate()?;
+        Ok(sun)
     }
 
     /// The MSAA to use on `gpu`: as asked, else 4, or 1 on a CPU Vulkan device (lavapipe

@@ -45,9 +45,21 @@ pub struct HeadlessArgs {
     /// Frames at the start left out of frame_times.json.
     #[arg(long, default_value_t = 10)]
     pub warmup: u64,
-    /// Output directory for PNGs and frame_times.json (created if missing).
+    /// Output directory for the images and frame_times.json (created if missing).
     #[arg(long)]
     pub out: PathBuf,
+    /// Image format of the saved frames: png (lossless) or jpeg (quality 90, small files).
+    #[arg(long, value_enum, default_value_t = ImageFormat::Png)]
+    pub format: ImageFormat,
+}
+
+/// How captured frames are saved.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ImageFormat {
+    /// Lossless PNG.
+    Png,
+    /// JPEG, quality 90.
+    Jpeg,
 }
 
 #[derive(Args)]
@@ -158,8 +170,9 @@ pub fn headless_cmd(a: HeadlessArgs) -> CmdResult {
         opts.renderer.msaa.samples(),
         xr.gpu().device_name
     );
-    let mut pngs = PngWriter {
+    let mut pngs = FrameWriter {
         dir: a.out.clone(),
+        format: a.format,
         saved: Vec::new(),
     };
     // Counts validation errors over the whole run, shutdown included.
@@ -176,18 +189,22 @@ pub fn headless_cmd(a: HeadlessArgs) -> CmdResult {
     validation.check()
 }
 
-/// Saves captured frames as `frame_NNNNN_{left,right}.png`.
-struct PngWriter {
+/// Saves captured frames as `frame_NNNNN_{left,right}.{png,jpg}`.
+struct FrameWriter {
     dir: PathBuf,
+    format: ImageFormat,
     saved: Vec<PathBuf>,
 }
 
-impl app::RunHooks for PngWriter {
+impl app::RunHooks for FrameWriter {
     fn capture(&mut self, c: &app::Capture<'_>) -> Result<(), app::AppError> {
         for (eye, pixels) in ["left", "right"].iter().zip(c.eyes) {
-            let file = self.dir.join(format!("frame_{:05}_{eye}.png", c.frame));
-            export::save_png(&file, c.width, c.height, pixels)
-                .map_err(|e| app::AppError::Io(e.to_string()))?;
+            let (ext, save): (_, fn(&std::path::Path, u32, u32, &[u8]) -> _) = match self.format {
+                ImageFormat::Png => ("png", export::save_png),
+                ImageFormat::Jpeg => ("jpg", export::save_jpeg),
+            };
+            let file = self.dir.join(format!("frame_{:05}_{eye}.{ext}", c.frame));
+            save(&file, c.width, c.height, pixels).map_err(|e| app::AppError::Io(e.to_string()))?;
             self.saved.push(file);
         }
         Ok(())
@@ -336,6 +353,7 @@ fn headless_fallback(why: &str, view: ViewArgs) -> CmdResult {
         capture: Vec::new(),
         warmup: 10,
         out: out.clone(),
+        format: ImageFormat::Png,
     })?;
     let shown = std::fs::canonicalize(&out).unwrap_or(out);
     println!(

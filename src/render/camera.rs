@@ -58,6 +58,14 @@ pub struct Globals {
     /// Per whitecap level ([`crate::sim::whitecaps`]): the window's centre x, z (m), the
     /// lattice spacing (m) and the level's mean coverage (negative: whitecaps off).
     pub whitecaps: [[f32; 4]; 2],
+    /// The sun disc's radiance (rgb, kcd/m²) and the cosine of its angular radius (w).
+    pub sun_radiance: [f32; 4],
+    /// Sun illuminance at normal incidence (rgb, klux) and the exposure (w: kcd/m² to the
+    /// tonemapper's input).
+    pub sun_illuminance: [f32; 4],
+    /// The sky dome's illuminance on a horizontal surface (rgb, klux) and the environment map's
+    /// level count (w).
+    pub sky_illuminance: [f32; 4],
 }
 
 impl Globals {

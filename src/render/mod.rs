@@ -12,6 +12,8 @@
 //! - [`ocean`]: the per-frame renderer.
 //! - [`sky`]: the analytic sky (Preetham) and its prefiltered environment map, baked on the
 //!   CPU when the sun changes.
+//! - [`tonemap`]: the shaders' tone curve (Khronos PBR Neutral) and the sRGB encoding, for
+//!   tests to check the GPU against.
 //! - [`readback`]: copies a rendered array image to the CPU (screenshots, tests).
 //! - [`shaders`]: SPIR-V compiled from `shaders/` by `build.rs`.
 
@@ -24,8 +26,10 @@ pub mod memory;
 pub mod ocean;
 pub mod pipeline;
 pub mod readback;
+pub mod render_pass;
 pub mod shaders;
 pub mod sky;
+pub mod tonemap;
 
 pub use context::{
     ContextOptions, DirectVulkan, GpuContext, Validation, ValidationLog, VulkanFactory,

@@ -29,6 +29,13 @@ pub enum Tweak {
     Preset(QualityPreset),
     /// Throw a crate from the head along the view (the window's throw key).
     Throw,
+    /// Move the sun: elevation and azimuth by these many degrees (time-of-day keys).
+    Sun {
+        /// Degrees up (negative: down).
+        elevation: f32,
+        /// Degrees from +x toward +z.
+        azimuth: f32,
+    },
 }
 
 /// Most tweaks one frame carries; later ones wait for the next frame.

@@ -5,6 +5,7 @@
 //!
 //! - `slots`: the frames-in-flight ring (what the CPU writes per frame);
 //! - `textures`: the cascade textures, their samplers and the upload;
+//! - `sky_map`: the sky's prefiltered environment map and its light, baked when the sun moves;
 //! - `mesh`: the patch, skirt and sky meshes, uploaded once;
 //! - `targets`: views and framebuffers of the target images;
 //! - `pass`: the uniforms, cascade fades and the pass's recording;
@@ -21,6 +22,7 @@
 
 mod mesh;
 mod pass;
+mod sky_map;
 mod slots;
 pub mod solids;
 mod targets;
@@ -33,15 +35,18 @@ use glam::Vec3;
 
 use self::mesh::MeshBuffers;
 use self::pass::{PassConstants, PassRecorder, ResolveAfter};
+use self::sky_map::SkyMap;
 use self::slots::{SlotSizes, Slots, TIMESTAMP_QUERIES};
 use self::targets::Targets;
 use self::textures::CascadeTextures;
 use super::context::GpuContext;
 use super::error::RenderError;
 use super::pipeline::{Msaa, PassLayout, Pipelines, StereoMode};
+use super::sky::SunSky;
 use crate::base::EyeView;
 use crate::lod::OceanLod;
 use crate::sim::{OceanConfig, Surfaces};
+pub use sky_map::SkyLight;
 pub use solids::{Shape, Solid, SolidInstance, SolidKind, SolidVertex, MAX_SOLIDS};
 
 /// The most cascades the shaders read (a `vec4` of patch sizes).
@@ -63,15 +68,21 @@ pub struct RendererSettings {
     pub whitecaps: bool,
     /// Frames the CPU may record ahead of the GPU (≥ 2); also the staging ring's slot count.
     pub frames_in_flight: usize,
-    /// Unit direction towards the sun.
-    pub sun_direction: Vec3,
-    /// Sun intensity (relative; 1 is an overcast disc, 8 a bright one).
-    pub sun_intensity: f32,
+    /// The sun and the air: the Preetham sky drawn, reflected and fogged with, the sun's light
+    /// and the exposure all follow from it.
+    pub sun: SunSky,
     /// Distance (m) over which fog reaches 63% (exp(−d/fog)).
     pub fog_distance: f32,
     /// Paint the sky magenta so any sky pixel under the horizon shows (crack tests).
     pub sky_marker: bool,
+    /// Paint the sky with a grey ramp, left to right, of exposed values 0 to
+    /// [`TONEMAP_RAMP_TOP`] through the tone curve (tests: the curve and the sRGB store read
+    /// back as [`crate::render::tonemap`] says).
+    pub tonemap_ramp: bool,
 }
+
+/// The exposed value at the right edge of the tone-map test ramp: past the curve's knee.
+pub const TONEMAP_RAMP_TOP: f32 = 1.5;
 
 impl Default for RendererSettings {
     fn default() -> Self {
@@ -81,11 +92,23 @@ impl Default for RendererSettings {
             specular_aa: true,
             whitecaps: true,
             frames_in_flight: 2,
-            sun_direction: Vec3::new(0.45, 0.3, -0.84).normalize(),
-            sun_intensity: 8.0,
+            sun: default_sun(),
             fog_distance: 4000.0,
             sky_marker: false,
+            tonemap_ramp: false,
         }
+    }
+}
+
+/// The sun the renderer lights with unless told otherwise: 17.5° high, azimuth −61.8° (toward
+/// (0.45, 0.3, −0.84)), clear maritime air (T 2.5): a late-afternoon sun ahead and to the right
+/// of a viewer looking along −z.
+pub fn default_sun() -> SunSky {
+    let d = Vec3::new(0.45, 0.3, -0.84).normalize();
+    SunSky {
+        elevation_deg: d.y.asin().to_degrees(),
+        azimuth_deg: d.z.atan2(d.x).to_degrees(),
+        turbidity: 2.5,
     }
 }
 
@@ -147,6 +170,7 @@ struct Parts {
     textures: Option<CascadeTextures>,
     mesh: Option<MeshBuffers>,
     targets: Option<Targets>,
+    sky: Option<SkyMap>,
     slots: Option<Slots>,
 }
 
@@ -157,6 +181,9 @@ impl Parts {
         }
         if let Some(mut t) = self.targets.take() {
             t.destroy(ctx);
+        }
+        if let Some(mut s) = self.sky.take() {
+            s.destroy(ctx);
         }
         if let Some(mut m) = self.mesh.take() {
             m.destroy(ctx);
@@ -177,6 +204,7 @@ pub struct OceanRenderer {
     textures: CascadeTextures,
     mesh: MeshBuffers,
     targets: Targets,
+    sky: SkyMap,
     slots: Slots,
     pass: PassConstants,
     extent: vk::Extent2D,
@@ -194,6 +222,10 @@ impl OceanRenderer {
         settings: RendererSettings,
     ) -> Result<Self, RenderError> {
         validate(config, targets, &settings)?;
+        settings
+            .sun
+            .validate()
+            .map_err(|e| RenderError::Invalid(e.to_string()))?;
         let mut parts = Parts::default();
         if let Err(e) = make_parts(ctx, config, lod, targets, &settings, &mut parts) {
             parts.destroy(ctx);
@@ -204,6 +236,7 @@ impl OceanRenderer {
             textures: Some(textures),
             mesh: Some(mesh),
             targets: Some(out_targets),
+            sky: Some(sky),
             slots: Some(slots),
         } = parts
         else {
@@ -215,6 +248,7 @@ impl OceanRenderer {
             textures,
             mesh,
             targets: out_targets,
+            sky,
             slots,
             pass: PassConstants::new(config, lod.settings()),
             extent: targets.extent,
@@ -263,7 +297,7 @@ impl OceanRenderer {
         } else {
             None
         };
-        slot.write_globals(&self.pass.globals(input, &self.settings));
+        slot.write_globals(&self.pass.globals(input, &self.settings, self.sky.light()));
         let skirt_instance = slot.write_instances(input.lod)?;
         let solid_draws = slot.write_solids(input.solids)?;
         // Textures, when the simulation moved on since this slot last uploaded.
@@ -360,6 +394,22 @@ impl OceanRenderer {
         })
     }
 
+    /// Moves the sun (a user's time-of-day key, not the steady state): bakes and uploads the new
+    /// sky, waiting for the frames in flight first. On an error the old sky stays.
+    pub fn set_sun(&mut self, ctx: &GpuContext, sun: SunSky) -> Result<(), RenderError> {
+        sun.validate()
+            .map_err(|e| RenderError::Invalid(e.to_string()))?;
+        self.wait_all(ctx)?;
+        let new = SkyMap::new(ctx, &sun)?;
+        let mut old = std::mem::replace(&mut self.sky, new);
+        old.destroy(ctx);
+        for slot in &self.slots.ring {
+            slot.write_sky(ctx, self.sky.descriptor());
+        }
+        self.settings.sun = sun;
+        Ok(())
+    }
+
     /// Waits for every frame in flight (shutdown and read-back only).
     pub fn wait_all(&self, ctx: &GpuContext) -> Result<(), RenderError> {
         let ring = &self.slots.ring;
@@ -377,6 +427,7 @@ impl OceanRenderer {
     pub fn destroy(&mut self, ctx: &GpuContext) {
         self.slots.destroy(ctx);
         self.targets.destroy(ctx);
+        self.sky.destroy(ctx);
         self.mesh.destroy(ctx);
         self.textures.destroy(ctx);
         self.pipelines.destroy(ctx);
@@ -443,6 +494,9 @@ fn make_parts(
         instances: map * map + 1,
     };
     let frames = settings.frames_in_flight;
-    parts.slots = Some(Slots::new(ctx, pipelines, textures, sizes, frames)?);
+    let sky = parts.sky.insert(SkyMap::new(ctx, &settings.sun)?);
+    let [disp, norm, caps] = textures.descriptors();
+    let images = [disp, norm, caps, sky.descriptor()];
+    parts.slots = Some(Slots::new(ctx, pipelines, &images, sizes, frames)?);
     Ok(())
 }

@@ -11,6 +11,7 @@
 use ash::vk;
 
 use super::mesh::MeshBuffers;
+use super::sky_map::SkyLight;
 use super::{FrameInput, RendererSettings};
 use crate::lod::{LodSettings, OceanLod};
 use crate::render::barrier::{self, Access, ImageBarrier};
@@ -46,15 +47,20 @@ impl PassConstants {
     }
 
     /// This frame's uniform block (std140, mirrored in `shaders/common.glsl`).
-    pub fn globals(&self, input: &FrameInput<'_>, settings: &RendererSettings) -> Globals {
+    pub fn globals(
+        &self,
+        input: &FrameInput<'_>,
+        settings: &RendererSettings,
+        light: &SkyLight,
+    ) -> Globals {
         let mut g: Globals = bytemuck::Zeroable::zeroed();
         g.set_eyes(input.eyes);
         let viewer = (input.eyes[0].position + input.eyes[1].position) * 0.5;
         g.lod_viewer = viewer.extend(input.surfaces.time() as f32).to_array();
-        g.sun = settings
-            .sun_direction
-            .extend(settings.sun_intensity)
-            .to_array();
+        g.sun = light.sun_direction.extend(0.0).to_array();
+        g.sun_radiance = light.sun_radiance.extend(light.sun_cos_radius).to_array();
+        g.sun_illuminance = light.sun_illuminance.extend(light.exposure).to_array();
+        g.sky_illuminance = light.sky_illuminance.extend(light.levels as f32).to_array();
         let mut patch_sizes = [1.0; 4];
         for (p, c) in patch_sizes.iter_mut().zip(&input.surfaces.cascades) {
             *p = c.patch;
@@ -67,7 +73,13 @@ impl PassConstants {
             self.cascades as f32,
             self.grid as f32,
             settings.fog_distance,
-            if settings.sky_marker { 1.0 } else { 0.0 },
+            if settings.sky_marker {
+                1.0
+            } else if settings.tonemap_ramp {
+                2.0
+            } else {
+                0.0
+            },
         ];
         let len0 = input.surfaces.base_normal_length;
         let rough0 = (1.0 - pack::smoothness(len0)).max(MIN_ROUGHNESS);

@@ -11,7 +11,6 @@ use std::time::Duration;
 use ash::vk;
 
 use super::solids::{Shape, Solid, SolidInstance, MAX_SOLIDS};
-use super::textures::CascadeTextures;
 use crate::lod::{OceanLod, PatchInstance};
 use crate::render::camera::Globals;
 use crate::render::commands;
@@ -71,7 +70,7 @@ impl Slots {
     pub fn new(
         ctx: &GpuContext,
         pipelines: &Pipelines,
-        textures: &CascadeTextures,
+        images: &[vk::DescriptorImageInfo; 4],
         sizes: SlotSizes,
         frames: usize,
     ) -> Result<Self, RenderError> {
@@ -79,7 +78,7 @@ impl Slots {
             descriptor_pool: vk::DescriptorPool::null(),
             ring: Vec::with_capacity(frames),
         };
-        if let Err(e) = this.create(ctx, pipelines, textures, sizes, frames) {
+        if let Err(e) = this.create(ctx, pipelines, images, sizes, frames) {
             this.destroy(ctx);
             return Err(e);
         }
@@ -90,7 +89,7 @@ impl Slots {
         &mut self,
         ctx: &GpuContext,
         pipelines: &Pipelines,
-        textures: &CascadeTextures,
+        images: &[vk::DescriptorImageInfo; 4],
         sizes: SlotSizes,
         frames: usize,
     ) -> Result<(), RenderError> {
@@ -101,7 +100,7 @@ impl Slots {
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                descriptor_count: 3 * frames as u32,
+                descriptor_count: 4 * frames as u32,
             },
         ];
         let info = vk::DescriptorPoolCreateInfo::default()
@@ -112,7 +111,7 @@ impl Slots {
             ctx.device.create_descriptor_pool(&info, None)
         })?;
         for _ in 0..frames {
-            let slot = Slot::new(ctx, pipelines, self.descriptor_pool, textures, sizes)?;
+            let slot = Slot::new(ctx, pipelines, self.descriptor_pool, images, sizes)?;
             self.ring.push(slot);
         }
         Ok(())
@@ -138,7 +137,7 @@ impl Slot {
         ctx: &GpuContext,
         p: &Pipelines,
         descriptor_pool: vk::DescriptorPool,
-        textures: &CascadeTextures,
+        images: &[vk::DescriptorImageInfo; 4],
         sizes: SlotSizes,
     ) -> Result<Self, RenderError> {
         let mut slot = Self {
@@ -154,7 +153,7 @@ impl Slot {
             submitted: false,
             uploaded: None,
         };
-        if let Err(e) = slot.create(ctx, p, descriptor_pool, textures, sizes) {
+        if let Err(e) = slot.create(ctx, p, descriptor_pool, images, sizes) {
             slot.destroy(ctx);
             return Err(e);
         }
@@ -166,7 +165,7 @@ impl Slot {
         ctx: &GpuContext,
         p: &Pipelines,
         descriptor_pool: vk::DescriptorPool,
-        textures: &CascadeTextures,
+        images: &[vk::DescriptorImageInfo; 4],
         sizes: SlotSizes,
     ) -> Result<(), RenderError> {
         let d = &ctx.device;
@@ -207,8 +206,8 @@ impl Slot {
             offset: 0,
             range: vk::WHOLE_SIZE,
         }];
-        let [disp, norm, caps] = textures.descriptors();
-        let (disp, norm, caps) = ([disp], [norm], [caps]);
+        let [disp, norm, caps, sky] = *images;
+        let (disp, norm, caps, sky) = ([disp], [norm], [caps], [sky]);
         let write = |binding, ty| {
             vk::WriteDescriptorSet::default()
                 .dst_set(self.set)
@@ -221,6 +220,7 @@ impl Slot {
             write(1, image).image_info(&disp),
             write(2, image).image_info(&norm),
             write(3, image).image_info(&caps),
+            write(4, image).image_info(&sky),
         ];
         // SAFETY: the set is not in use; the buffer, views and samplers are alive.
         unsafe { d.update_descriptor_sets(&writes, &[]) };
@@ -239,6 +239,19 @@ impl Slot {
         // SAFETY: the fence is alive.
         unsafe { ctx.device.wait_for_fences(&[self.fence], true, u64::MAX) }
             .map_err(RenderError::vk("vkWaitForFences"))
+    }
+
+    /// Points the set's sky binding (4) at `sky`. Only while the GPU uses no frame's set.
+    pub fn write_sky(&self, ctx: &GpuContext, sky: vk::DescriptorImageInfo) {
+        let info = [sky];
+        let write = [vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(4)
+            .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+            .image_info(&info)];
+        // SAFETY: the caller waited for every frame, so the set is not in use; the view and
+        // sampler are alive.
+        unsafe { ctx.device.update_descriptor_sets(&write, &[]) };
     }
 
     /// Writes this frame's uniforms.

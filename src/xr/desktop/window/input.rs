@@ -17,6 +17,7 @@ pub const KEYS_HELP: &str = concat!(
     "  mouse    look around while a mouse button is held\n",
     "  1/2      wind speed -/+ 1 m/s  3/4    wind direction -/+ 15 deg\n",
     "  5/6      choppiness -/+ 0.1    F1-F4  quality low/medium/high/ultra\n",
+    "  7/8      sun lower/higher 5 deg  9/0  sun azimuth -/+ 15 deg\n",
     "  Space    throw a crate along the view\n",
     "  Esc      quit (or close the window)",
 );
@@ -52,6 +53,22 @@ pub fn tweak_for_key(code: KeyCode) -> Option<Tweak> {
         KeyCode::F3 => Tweak::Preset(QualityPreset::High),
         KeyCode::F4 => Tweak::Preset(QualityPreset::Ultra),
         KeyCode::Space => Tweak::Throw,
+        KeyCode::Digit7 => Tweak::Sun {
+            elevation: -5.0,
+            azimuth: 0.0,
+        },
+        KeyCode::Digit8 => Tweak::Sun {
+            elevation: 5.0,
+            azimuth: 0.0,
+        },
+        KeyCode::Digit9 => Tweak::Sun {
+            elevation: 0.0,
+            azimuth: -15.0,
+        },
+        KeyCode::Digit0 => Tweak::Sun {
+            elevation: 0.0,
+            azimuth: 15.0,
+        },
         _ => return None,
     })
 }
@@ -124,7 +141,9 @@ impl ApplicationHandler for Input {
                     self.quit = true;
                 } else if let Some(t) = tweak_for_key(code) {
                     // Holding a wave key repeats it; a preset switch or a throw happens once.
-                    if !(event.repeat && matches!(t, Tweak::Preset(_) | Tweak::Throw)) {
+                    if !(event.repeat
+                        && matches!(t, Tweak::Preset(_) | Tweak::Throw | Tweak::Sun { .. }))
+                    {
                         self.push_tweak(t);
                     }
                 }

@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# The README's gallery: five sea states and times of day, rendered headless at 1024x1024 per
+# eye (the left eye is kept, as JPEG), each from its camera path here. On lavapipe (two cores)
+# it takes about a quarter of an hour. Usage, from anywhere: docs/gallery/render.sh
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/../.."
+cargo build --release --quiet --bin vr-ocean
+bin="${CARGO_TARGET_DIR:-target}/release/vr-ocean"
+frames=96
+render() {
+    local name=$1
+    shift
+    local out
+    out=$(mktemp -d)
+    "$bin" headless --size 1024x1024 --frames "$frames" --msaa 4 --bodies 0 --format jpeg \
+        --path "docs/gallery/$name.path" --out "$out" "$@" >/dev/null
+    cp "$out/frame_$(printf %05d $((frames - 1)))_left.jpg" "docs/gallery/$name.jpg"
+    rm -rf "$out"
+    echo "wrote docs/gallery/$name.jpg"
+}
+render calm_dawn     --wind 4  --sun-elevation 4  --sun-azimuth -100 --turbidity 3
+render midday        --wind 10 --sun-elevation 60 --sun-azimuth 30   --turbidity 2.5
+render fresh_low_sun --wind 14 --sun-elevation 12 --sun-azimuth -60  --turbidity 2.2
+render gale          --wind 20 --sun-elevation 35 --sun-azimuth 120  --turbidity 10
+render sunset        --wind 6  --sun-elevation 1.5 --sun-azimuth -90 --turbidity 4 --fetch 1000

@@ -1,0 +1,205 @@
+//! The sky the pass draws, reflects and fogs with: the Preetham sky ([`crate::render::sky`])
+//! baked on the CPU into a GGX-prefiltered environment map (RGBA16F, one mip per roughness)
+//! and uploaded once, with the sun's and the sky's light and the exposure the shaders scale by.
+//! Made when the renderer is (and again when the sun moves): never per frame.
+
+use ash::vk;
+use glam::Vec3;
+
+use crate::render::barrier::{self, Access, ImageBarrier};
+use crate::render::context::GpuContext;
+use crate::render::error::RenderError;
+use crate::render::memory::{Buffer, Image, ImageDesc};
+use crate::render::sky::{self, EnvMap, Sky, SunSky, SUN_ANGULAR_RADIUS_DEG};
+
+/// Level 0 of the environment map: texels along the azimuth...
+pub const ENV_WIDTH: u32 = 128;
+/// ...and from the horizon to the zenith (square-root spaced, the horizon finest).
+pub const ENV_HEIGHT: u32 = 32;
+/// Levels: roughness 0, 0.2, ..., 1.
+pub const ENV_LEVELS: u32 = 6;
+
+/// The light the shaders need besides the map (absolute units: kcd/m², klux).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SkyLight {
+    /// Unit vector toward the sun.
+    pub sun_direction: Vec3,
+    /// Radiance of the sun's disc (kcd/m², linear sRGB).
+    pub sun_radiance: Vec3,
+    /// Sun illuminance at normal incidence (klux).
+    pub sun_illuminance: Vec3,
+    /// Illuminance of the sky dome on a horizontal surface (klux).
+    pub sky_illuminance: Vec3,
+    /// Multiplier from kcd/m² to the tonemapper's input ([`sky::exposure`]).
+    pub exposure: f32,
+    /// Cosine of the sun disc's angular radius.
+    pub sun_cos_radius: f32,
+    /// Levels of the map.
+    pub levels: u32,
+}
+
+/// The environment map on the GPU and the light it was baked with.
+pub(super) struct SkyMap {
+    image: Image,
+    sampler: vk::Sampler,
+    light: SkyLight,
+}
+
+impl SkyMap {
+    /// Bakes the sky of `sun` and uploads it (waits for the copy: set-up only). Nothing is left
+    /// behind when a step fails.
+    pub fn new(ctx: &GpuContext, sun: &SunSky) -> Result<Self, RenderError> {
+        let (sky, map) = bake(sun);
+        let mut this = Self {
+            image: Image::null(),
+            sampler: vk::Sampler::null(),
+            light: light_of(&sky, map.levels.len() as u32),
+        };
+        if let Err(e) = this.create(ctx, &map) {
+            this.destroy(ctx);
+            return Err(e);
+        }
+        Ok(this)
+    }
+
+    fn create(&mut self, ctx: &GpuContext, map: &EnvMap) -> Result<(), RenderError> {
+        let levels = map.levels.len() as u32;
+        self.image = Image::new(
+            ctx,
+            ImageDesc {
+                format: vk::Format::R16G16B16A16_SFLOAT,
+                extent: vk::Extent2D {
+                    width: map.width,
+                    height: map.height,
+                },
+                layers: 1,
+                mips: levels,
+                samples: vk::SampleCountFlags::TYPE_1,
+                usage: vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
+                aspect: vk::ImageAspectFlags::COLOR,
+                transient: false,
+            },
+        )?;
+        let info = vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::LINEAR)
+            .min_filter(vk::Filter::LINEAR)
+            .mipmap_mode(vk::SamplerMipmapMode::LINEAR)
+            .address_mode_u(vk::SamplerAddressMode::REPEAT)
+            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .min_lod(0.0)
+            .max_lod(levels as f32);
+        // SAFETY: a valid create info on a live device.
+        self.sampler = ctx.create("vkCreateSampler", || unsafe {
+            ctx.device.create_sampler(&info, None)
+        })?;
+        upload(ctx, map, &self.image)
+    }
+
+    /// The descriptor of the map (binding 4).
+    pub fn descriptor(&self) -> vk::DescriptorImageInfo {
+        vk::DescriptorImageInfo {
+            sampler: self.sampler,
+            image_view: self.image.view,
+            image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        }
+    }
+
+    /// The sun's and the sky's light and the exposure.
+    pub fn light(&self) -> &SkyLight {
+        &self.light
+    }
+
+    /// Frees what was made. The GPU must be done with it.
+    pub fn destroy(&mut self, ctx: &GpuContext) {
+        // SAFETY: the GPU no longer uses the sampler; a null handle is a no-op.
+        unsafe { ctx.device.destroy_sampler(self.sampler, None) };
+        self.sampler = vk::Sampler::null();
+        self.image.destroy(ctx);
+    }
+}
+
+/// The sky of `sun` and its baked map.
+fn bake(sun: &SunSky) -> (Sky, EnvMap) {
+    let sky = Sky::new(sun);
+    let map = sky::bake(&sky, ENV_WIDTH, ENV_HEIGHT, ENV_LEVELS);
+    (sky, map)
+}
+
+/// What the shaders need of `sky`.
+fn light_of(sky: &Sky, levels: u32) -> SkyLight {
+    SkyLight {
+        sun_direction: sky.sun_direction(),
+        sun_radiance: sky.sun_radiance(),
+        sun_illuminance: sky.sun_illuminance(),
+        sky_illuminance: sky.sky_illuminance(),
+        exposure: sky::exposure(sky),
+        sun_cos_radius: SUN_ANGULAR_RADIUS_DEG.to_radians().cos(),
+        levels,
+    }
+}
+
+/// Copies every level of `map` (as half floats) into `image` through a temporary staging
+/// buffer and leaves it ready for sampling.
+fn upload(ctx: &GpuContext, map: &EnvMap, image: &Image) -> Result<(), RenderError> {
+    let texels: usize = map.levels.iter().map(Vec::len).sum();
+    let mut staging = Buffer::new(
+        ctx,
+        (texels * 8) as u64,
+        vk::BufferUsageFlags::TRANSFER_SRC,
+        true,
+    )?;
+    let mut regions = Vec::with_capacity(map.levels.len());
+    let bytes = staging.bytes_mut();
+    let mut offset = 0usize;
+    for (m, level) in map.levels.iter().enumerate() {
+        let (w, h) = map.level_size(m);
+        for (i, t) in level.iter().enumerate() {
+            let half = t.map(|c| half::f16::from_f32(c).to_bits());
+            bytes[offset + 8 * i..offset + 8 * i + 8].copy_from_slice(bytemuck::bytes_of(&half));
+        }
+        regions.push(vk::BufferImageCopy {
+            buffer_offset: offset as u64,
+            buffer_row_length: 0,
+            buffer_image_height: 0,
+            image_subresource: vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                mip_level: m as u32,
+                base_array_layer: 0,
+                layer_count: 1,
+            },
+            image_offset: vk::Offset3D::default(),
+            image_extent: vk::Extent3D {
+                width: w,
+                height: h,
+                depth: 1,
+            },
+        });
+        offset += 8 * level.len();
+    }
+    let levels = map.levels.len() as u32;
+    let result = crate::render::one_shot(ctx, |cmd| {
+        let d = &ctx.device;
+        let to_copy = ImageBarrier::colour(image.raw, 1, Access::Nothing, Access::TransferWrite)
+            .mips(levels)
+            .discard();
+        barrier::record(d, cmd, [to_copy], None);
+        // SAFETY: `cmd` is recording; the image is in TRANSFER_DST_OPTIMAL after the barrier
+        // and every region lies inside the staging buffer and its level.
+        unsafe {
+            d.cmd_copy_buffer_to_image(
+                cmd,
+                staging.raw,
+                image.raw,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &regions,
+            )
+        };
+        let to_read =
+            ImageBarrier::colour(image.raw, 1, Access::TransferWrite, Access::ShaderSampled)
+                .mips(levels);
+        barrier::record(d, cmd, [to_read], None);
+    });
+    staging.destroy(ctx);
+    result
+}

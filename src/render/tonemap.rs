@@ -1,0 +1,71 @@
+//! The tone curve the shaders apply (`tonemap` in `shaders/common.glsl`): Khronos PBR Neutral,
+//! mirrored here so tests can check what the GPU wrote against it, and the sRGB encoding the
+//! target applies after it.
+//!
+//! PBR Neutral keeps colours below [`START`] unchanged (but for a small offset that takes the
+//! toe to black) and compresses the peak channel above it toward 1, desaturating as it goes,
+//! so a bright sun glint turns white instead of clipping to a hue.
+
+use glam::Vec3;
+
+/// Where the compression starts (0.8 − 0.04).
+pub const START: f32 = 0.8 - 0.04;
+
+/// How fast compressed colours go grey.
+pub const DESATURATION: f32 = 0.15;
+
+/// Khronos PBR Neutral: linear exposed radiance in, linear display value in [0, 1] out.
+pub fn pbr_neutral(c: Vec3) -> Vec3 {
+    let x = c.min_element();
+    let offset = if x < 0.08 { x - 6.25 * x * x } else { 0.04 };
+    let c = c - Vec3::splat(offset);
+    let peak = c.max_element();
+    if peak < START {
+        return c;
+    }
+    let d = 1.0 - START;
+    let new_peak = 1.0 - d * d / (peak + d - START);
+    let c = c * (new_peak / peak);
+    let grey = 1.0 - 1.0 / (DESATURATION * (peak - new_peak) + 1.0);
+    c.lerp(Vec3::splat(new_peak), grey)
+}
+
+/// The sRGB transfer function (IEC 61966-2-1) the target applies on store: linear [0, 1] to
+/// encoded [0, 1].
+pub fn srgb_encode(linear: f32) -> f32 {
+    let l = linear.clamp(0.0, 1.0);
+    if l <= 0.003_130_8 {
+        12.92 * l
+    } else {
+        1.055 * l.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_curve_is_monotonic_bounded_and_linear_below_its_knee() {
+        let mut last = -1.0;
+        for i in 0..=2000 {
+            let v = i as f32 * 0.01;
+            let y = pbr_neutral(Vec3::splat(v)).x;
+            assert!(y >= last - 1e-6 && y <= 1.0, "{v}: {y}");
+            last = y;
+        }
+        // Above the toe and below the knee, grey passes shifted by the 0.04 offset only.
+        let y = pbr_neutral(Vec3::splat(0.5)).x;
+        assert!((y - 0.46).abs() < 1e-6, "{y}");
+        // Bright light desaturates toward white.
+        let c = pbr_neutral(Vec3::new(40.0, 20.0, 10.0));
+        assert!(c.min_element() > 0.9, "{c}");
+    }
+
+    #[test]
+    fn srgb_encoding_matches_its_definition() {
+        assert_eq!(srgb_encode(0.0), 0.0);
+        assert!((srgb_encode(1.0) - 1.0).abs() < 1e-6);
+        assert!((srgb_encode(0.214_041) - 0.5).abs() < 1e-4);
+    }
+}
