@@ -199,12 +199,16 @@ struct FrameWriter {
 impl app::RunHooks for FrameWriter {
     fn capture(&mut self, c: &app::Capture<'_>) -> Result<(), app::AppError> {
         for (eye, pixels) in ["left", "right"].iter().zip(c.eyes) {
-            let (ext, save): (_, fn(&std::path::Path, u32, u32, &[u8]) -> _) = match self.format {
-                ImageFormat::Png => ("png", export::save_png),
-                ImageFormat::Jpeg => ("jpg", export::save_jpeg),
+            let ext = match self.format {
+                ImageFormat::Png => "png",
+                ImageFormat::Jpeg => "jpg",
             };
             let file = self.dir.join(format!("frame_{:05}_{eye}.{ext}", c.frame));
-            save(&file, c.width, c.height, pixels).map_err(|e| app::AppError::Io(e.to_string()))?;
+            let saved = match self.format {
+                ImageFormat::Png => export::save_png(&file, c.width, c.height, pixels),
+                ImageFormat::Jpeg => export::save_jpeg(&file, c.width, c.height, pixels),
+            };
+            saved.map_err(|e| app::AppError::Io(e.to_string()))?;
             self.saved.push(file);
         }
         Ok(())
