@@ -152,9 +152,11 @@ pub struct ViewArgs {
     /// Ocean size S (m) the quadtree covers, 256 to 8192; the skirt reaches 10 S.
     #[arg(long, allow_negative_numbers = true, default_value_t = 2048.0)]
     pub ocean_size: f32,
-    /// How both eyes are drawn.
-    #[arg(long, value_enum, default_value_t = StereoArg::Multiview)]
-    pub stereo: StereoArg,
+    /// How both eyes are drawn [default: multiview; in the window and headless on a CPU Vulkan
+    /// device (lavapipe), two-pass: Mesa 22.3's lavapipe writes the second view's clipped
+    /// triangles, such as the deck under you, into the first view's image].
+    #[arg(long, value_enum)]
+    pub stereo: Option<StereoArg>,
     /// Simulation worker threads.
     #[arg(long, default_value_t = default_threads())]
     pub threads: usize,
@@ -217,8 +219,8 @@ impl ViewArgs {
             lod: LodSettings::new(preset(self.preset), size),
             renderer: RendererSettings {
                 stereo: match self.stereo {
-                    StereoArg::Multiview => StereoMode::Multiview,
-                    StereoArg::TwoPass => StereoMode::TwoPass,
+                    None | Some(StereoArg::Multiview) => StereoMode::Multiview,
+                    Some(StereoArg::TwoPass) => StereoMode::TwoPass,
                 },
                 msaa: match self.msaa {
                     None => Msaa::X4,
@@ -248,6 +250,15 @@ impl ViewArgs {
         };
         sun.validate()?;
         Ok(sun)
+    }
+
+    /// The desktop views' stereo mode on `gpu`: as asked, else multiview, or two passes on a
+    /// CPU Vulkan device, whose multiview (Mesa 22.3's lavapipe) draws the second eye's clipped
+    /// triangles into the first eye's layer (the deck under the viewer shows twice).
+    pub fn resolve_desktop_stereo(&self, opts: &mut RunOptions, gpu: &GpuContext) {
+        if self.stereo.is_none() && gpu.cpu_device {
+            opts.renderer.stereo = StereoMode::TwoPass;
+        }
     }
 
     /// The MSAA to use on `gpu`: as asked, else 4, or 1 on a CPU Vulkan device (lavapipe

@@ -161,6 +161,7 @@ pub fn headless_cmd(a: HeadlessArgs) -> CmdResult {
     export::prepare_dir(&a.out)?;
     let mut xr = HeadlessXr::new(&a.view.context(), size, path, a.frames)?;
     a.view.resolve_msaa(&mut opts, xr.gpu());
+    a.view.resolve_desktop_stereo(&mut opts, xr.gpu());
     println!(
         "rendering {} frames of {}x{} per eye ({}, MSAA {}) on {}",
         a.frames,
@@ -246,6 +247,7 @@ pub fn window_cmd(a: WindowArgs, fallback: bool) -> CmdResult {
         Err(e) => return Err(e.into()),
     };
     a.view.resolve_msaa(&mut opts, xr.gpu());
+    a.view.resolve_desktop_stereo(&mut opts, xr.gpu());
     let eye = size.eye().extent();
     println!(
         "window {}x{}: both eyes at {}x{} ({}, MSAA {}) on {}",
