@@ -122,12 +122,11 @@ impl Afloat {
         surfaces: &Surfaces,
     ) -> Result<[bool; 2], PhysicsError> {
         let viewer = (frame.views[0].position + frame.views[1].position) * 0.5;
-        if self.world.is_none() {
-            self.world = Some(self.make_world(viewer, surfaces)?);
-        }
-        let Some(world) = self.world.as_mut() else {
-            unreachable!("made above");
+        let world = match self.world.take() {
+            Some(w) => w,
+            None => self.make_world(viewer, surfaces)?,
         };
+        let world = self.world.insert(world);
         let mut ticks = [false; 2];
         for ((hand, input), tick) in self.hands.iter_mut().zip(&frame.hands).zip(&mut ticks) {
             *tick = drive_hand(world, hand, input.as_ref());
