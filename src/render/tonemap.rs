@@ -57,9 +57,10 @@ mod tests {
         // Above the toe and below the knee, grey passes shifted by the 0.04 offset only.
         let y = pbr_neutral(Vec3::splat(0.5)).x;
         assert!((y - 0.46).abs() < 1e-6, "{y}");
-        // Bright light desaturates toward white.
+        // Bright light desaturates toward white: a 4:1 orange at 40 comes out within 12 % of
+        // grey (unmapped, it would clip to 1, 1, 1 only by losing its hue at the clip).
         let c = pbr_neutral(Vec3::new(40.0, 20.0, 10.0));
-        assert!(c.min_element() > 0.9, "{c}");
+        assert!(c.max_element() <= 1.0 && c.min_element() > 0.88, "{c}");
     }
 
     #[test]
