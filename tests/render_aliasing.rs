@@ -12,9 +12,7 @@
 mod common;
 
 use common::gpu::{self, Frame};
-use glam::Vec3;
 use vr_ocean::lod::{LodSettings, OceanSize, QualityPreset};
-use vr_ocean::render::camera::project_to_pixel;
 use vr_ocean::render::{Msaa, StereoMode};
 use vr_ocean::sim::{OceanConfig, SpectrumKind};
 
@@ -100,16 +98,6 @@ fn luminance(f: &Frame, eye: usize, scale: u32) -> Vec<f32> {
     out
 }
 
-/// The horizon's image row for `eye` (no roll).
-fn horizon_row(f: &Frame, eye: usize) -> f32 {
-    let v = &f.state.views[eye];
-    let forward = v.orientation * Vec3::NEG_Z;
-    let flat = Vec3::new(forward.x, 0.0, forward.z).normalize();
-    project_to_pixel(v, v.position + flat * 1.0e6, f.width, f.height)
-        .unwrap()
-        .1
-}
-
 /// Rows [start, end) of the far band and of the nearer water in a `size`-high image.
 fn bands(horizon: f32, size: u32) -> ((u32, u32), (u32, u32)) {
     // Two pixels below the horizon: its own edge is MSAA's job, measured separately.
@@ -144,7 +132,7 @@ fn errors(f: &Frame, reference: &[Vec<f32>; 2]) -> Errors {
     let mut near = 0.0;
     for (eye, reference) in reference.iter().enumerate() {
         let lum = luminance(f, eye, 1);
-        let (far_rows, near_rows) = bands(horizon_row(f, eye), f.height);
+        let (far_rows, near_rows) = bands(f.horizon_row(eye), f.height);
         far += rmse(&lum, reference, f.width, far_rows).powi(2);
         near += rmse(&lum, reference, f.width, near_rows).powi(2);
     }
@@ -158,7 +146,7 @@ fn errors(f: &Frame, reference: &[Vec<f32>; 2]) -> Errors {
 /// within a pixel after the eyes' measured offset (best integer shift over the band).
 fn one_eyed_highlights(f: &Frame) -> f64 {
     let lum = [luminance(f, 0, 1), luminance(f, 1, 1)];
-    let (rows, _) = bands(horizon_row(f, 0), f.height);
+    let (rows, _) = bands(f.horizon_row(0), f.height);
     let w = f.width as i32;
     let at = |eye: usize, x: i32, y: u32| lum[eye][(y as i32 * w + x) as usize];
     // The horizontal offset between the eyes in the far band: the FOVs' asymmetry (parallax is
@@ -341,7 +329,7 @@ fn highlight_toggles(frames: &[Frame], threshold: f32) -> f64 {
         let (a, b) = (&pair[0], &pair[1]);
         for eye in 0..2 {
             let (la, lb) = (luminance(a, eye, 1), luminance(b, eye, 1));
-            let (rows, _) = bands(horizon_row(a, eye), a.height);
+            let (rows, _) = bands(a.horizon_row(eye), a.height);
             let (mut n, mut toggled) = (0usize, 0usize);
             for y in rows.0..rows.1 {
                 for x in 0..a.width {

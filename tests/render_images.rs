@@ -10,15 +10,6 @@ use vr_ocean::render::camera::project_to_pixel;
 use vr_ocean::render::StereoMode;
 use vr_ocean::xr::desktop::CameraPath;
 
-/// The image row of the horizon for `eye` of `f` (no roll, so one row across the image).
-fn horizon_row(f: &Frame, eye: usize) -> f32 {
-    let v = &f.state.views[eye];
-    let forward = v.orientation * Vec3::NEG_Z;
-    let flat = Vec3::new(forward.x, 0.0, forward.z).normalize();
-    let far = v.position + flat * 1.0e6;
-    project_to_pixel(v, far, f.width, f.height).unwrap().1
-}
-
 const MAGENTA: [u8; 4] = [255, 0, 255, 255];
 
 #[test]
@@ -40,7 +31,7 @@ fn sky_above_ocean_below_and_no_cracks_at_grazing_angles() {
     assert!(report.max_draws <= 20, "{} draws", report.max_draws);
     for f in &frames {
         for eye in 0..2 {
-            let row = horizon_row(f, eye);
+            let row = f.horizon_row(eye);
             let (mut sky_below, mut ocean_above, mut black) = (0, 0, 0);
             for y in 0..f.height {
                 for x in 0..f.width {

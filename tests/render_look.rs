@@ -38,16 +38,6 @@ fn render(opts: &vr_ocean::app::RunOptions, yaw: f32, pitch: f32) -> Frame {
     f
 }
 
-/// Image row of the horizon (no roll).
-fn horizon_row(f: &Frame, eye: usize) -> f32 {
-    let v = &f.state.views[eye];
-    let forward = v.orientation * Vec3::NEG_Z;
-    let flat = Vec3::new(forward.x, 0.0, forward.z).normalize();
-    project_to_pixel(v, v.position + flat * 1.0e6, f.width, f.height)
-        .unwrap()
-        .1
-}
-
 /// Image column of the sun's azimuth (it may be off screen).
 fn sun_column(f: &Frame, eye: usize, sun: Vec3) -> Option<f32> {
     let v = &f.state.views[eye];
@@ -85,7 +75,7 @@ fn the_sea_under_the_preetham_sky_is_clean() {
     let sun = opts.renderer.sun.sun_direction();
     let f = render(&opts, 0.0, -6.0);
     for eye in 0..2 {
-        let row = horizon_row(&f, eye);
+        let row = f.horizon_row(eye);
         let glint = sun_column(&f, eye, sun);
         let in_glint = |x: u32| glint.is_some_and(|c| (x as f32 - c).abs() < W as f32 / 5.0);
         let (mut black, mut clipped, mut outside) = (0usize, 0usize, 0usize);

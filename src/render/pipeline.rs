@@ -146,16 +146,8 @@ impl Pipelines {
             render_pass: self.render_pass,
             msaa: self.layout_of_pass.msaa,
         };
-        self.ocean = build(
-            ctx,
-            &ocean_program(multiview, &mut Vec::new(), &mut Vec::new()),
-            target,
-        )?;
-        self.solids = build(
-            ctx,
-            &solid_program(multiview, &mut Vec::new(), &mut Vec::new()),
-            target,
-        )?;
+        self.ocean = build(ctx, &ocean_program(multiview), target)?;
+        self.solids = build(ctx, &solid_program(multiview), target)?;
         Ok(())
     }
 
@@ -182,12 +174,28 @@ struct Target {
 }
 
 /// The shaders and vertex input of one pipeline.
-struct Program<'a> {
-    vert: &'a [u32],
-    frag: &'a [u32],
-    bindings: &'a [vk::VertexInputBindingDescription],
-    attributes: &'a [vk::VertexInputAttributeDescription],
+struct Program {
+    vert: &'static [u32],
+    frag: &'static [u32],
+    bindings: [vk::VertexInputBindingDescription; 2],
+    attributes: Vec<vk::VertexInputAttributeDescription>,
     cull: vk::CullModeFlags,
+}
+
+/// Binding 0 per vertex of `vertex` bytes, binding 1 per instance of `instance` bytes.
+fn vertex_and_instance(vertex: usize, instance: usize) -> [vk::VertexInputBindingDescription; 2] {
+    [
+        vk::VertexInputBindingDescription {
+            binding: 0,
+            stride: vertex as u32,
+            input_rate: vk::VertexInputRate::VERTEX,
+        },
+        vk::VertexInputBindingDescription {
+            binding: 1,
+            stride: instance as u32,
+            input_rate: vk::VertexInputRate::INSTANCE,
+        },
+    ]
 }
 
 fn attr(
@@ -206,27 +214,11 @@ fn attr(
 
 /// The ocean: lattice positions (binding 0) and `PatchInstance`s (binding 1). Not back-face
 /// culled: folded crests show triangles from behind, and culling them would open holes.
-fn ocean_program<'a>(
-    multiview: bool,
-    bindings: &'a mut Vec<vk::VertexInputBindingDescription>,
-    attributes: &'a mut Vec<vk::VertexInputAttributeDescription>,
-) -> Program<'a> {
-    bindings.extend([
-        vk::VertexInputBindingDescription {
-            binding: 0,
-            stride: 12,
-            input_rate: vk::VertexInputRate::VERTEX,
-        },
-        vk::VertexInputBindingDescription {
-            binding: 1,
-            stride: std::mem::size_of::<PatchInstance>() as u32,
-            input_rate: vk::VertexInputRate::INSTANCE,
-        },
-    ]);
+fn ocean_program(multiview: bool) -> Program {
     let f = vk::Format::R32_SFLOAT;
     let f2 = vk::Format::R32G32_SFLOAT;
     let u = vk::Format::R32_UINT;
-    attributes.extend([
+    let attributes = vec![
         attr(0, 0, vk::Format::R32G32B32_SFLOAT, 0),
         attr(1, 1, f2, 0),
         attr(2, 1, f, 8),
@@ -235,7 +227,7 @@ fn ocean_program<'a>(
         attr(5, 1, f2, 24),
         attr(6, 1, u, 32),
         attr(7, 1, f, 36),
-    ]);
+    ];
     Program {
         vert: if multiview {
             shaders::OCEAN_VERT_MULTIVIEW
@@ -243,7 +235,7 @@ fn ocean_program<'a>(
             shaders::OCEAN_VERT
         },
         frag: shaders::OCEAN_FRAG,
-        bindings,
+        bindings: vertex_and_instance(12, std::mem::size_of::<PatchInstance>()),
         attributes,
         cull: vk::CullModeFlags::NONE,
     }
@@ -251,26 +243,10 @@ fn ocean_program<'a>(
 
 /// The solids: `SolidVertex`es (binding 0) and `SolidInstance`s (binding 1); closed meshes,
 /// back faces culled.
-fn solid_program<'a>(
-    multiview: bool,
-    bindings: &'a mut Vec<vk::VertexInputBindingDescription>,
-    attributes: &'a mut Vec<vk::VertexInputAttributeDescription>,
-) -> Program<'a> {
-    bindings.extend([
-        vk::VertexInputBindingDescription {
-            binding: 0,
-            stride: std::mem::size_of::<SolidVertex>() as u32,
-            input_rate: vk::VertexInputRate::VERTEX,
-        },
-        vk::VertexInputBindingDescription {
-            binding: 1,
-            stride: std::mem::size_of::<SolidInstance>() as u32,
-            input_rate: vk::VertexInputRate::INSTANCE,
-        },
-    ]);
+fn solid_program(multiview: bool) -> Program {
     let f3 = vk::Format::R32G32B32_SFLOAT;
     let f4 = vk::Format::R32G32B32A32_SFLOAT;
-    attributes.extend([
+    let attributes = vec![
         attr(0, 0, f3, 0),
         attr(1, 0, f3, 12),
         attr(2, 1, f4, 0),
@@ -278,7 +254,7 @@ fn solid_program<'a>(
         attr(4, 1, f4, 32),
         attr(5, 1, f4, 48),
         attr(6, 1, f4, 64),
-    ]);
+    ];
     Program {
         vert: if multiview {
             shaders::SOLID_VERT_MULTIVIEW
@@ -286,17 +262,16 @@ fn solid_program<'a>(
             shaders::SOLID_VERT
         },
         frag: shaders::SOLID_FRAG,
-        bindings,
+        bindings: vertex_and_instance(
+            std::mem::size_of::<SolidVertex>(),
+            std::mem::size_of::<SolidInstance>(),
+        ),
         attributes,
         cull: vk::CullModeFlags::BACK,
     }
 }
 
-fn build(
-    ctx: &GpuContext,
-    program: &Program<'_>,
-    target: Target,
-) -> Result<vk::Pipeline, RenderError> {
+fn build(ctx: &GpuContext, program: &Program, target: Target) -> Result<vk::Pipeline, RenderError> {
     let Target {
         layout,
         render_pass,
@@ -328,8 +303,8 @@ fn build(
             .name(MAIN),
     ];
     let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
-        .vertex_binding_descriptions(program.bindings)
-        .vertex_attribute_descriptions(program.attributes);
+        .vertex_binding_descriptions(&program.bindings)
+        .vertex_attribute_descriptions(&program.attributes);
     let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
         .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
     let viewport = vk::PipelineViewportStateCreateInfo::default()

@@ -130,6 +130,21 @@ pub fn standing(height: f32, yaw: f32, pitch: f32) -> CameraPath {
 }
 
 impl Frame {
+    /// The image row of the horizon for `eye` (no roll, so one row across the image).
+    pub fn horizon_row(&self, eye: usize) -> f32 {
+        let v = &self.state.views[eye];
+        let forward = v.orientation * Vec3::NEG_Z;
+        let flat = Vec3::new(forward.x, 0.0, forward.z).normalize();
+        vr_ocean::render::camera::project_to_pixel(
+            v,
+            v.position + flat * 1.0e6,
+            self.width,
+            self.height,
+        )
+        .expect("the horizon ahead is in front of the eye")
+        .1
+    }
+
     /// Writes both eyes side by side as a PNG next to the test binaries, for looking at a
     /// failure; returns its path.
     pub fn save(&self, name: &str) -> std::path::PathBuf {
