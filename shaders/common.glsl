@@ -10,7 +10,7 @@ layout(set = 0, binding = 0, std140) uniform Globals {
     vec4 eye_pos[2];
     // xyz: the viewer the LOD measured morph distances from; w: simulation time (s).
     vec4 lod_viewer;
-    // xyz: unit direction towards the sun; w: unused.
+    // xyz: unit direction towards the sun; w: the sea's significant wave height (m).
     vec4 sun;
     // Patch size L (m) of cascades 0..3.
     vec4 patch_size;

@@ -1,10 +1,14 @@
 #version 450
 // Water shading in linear HDR (kcd/m², the sky's units), exposed and tonemapped here (Khronos
-// PBR Neutral) into the sRGB target: normals and foam from the cascades' RGBA8 mip chains
-// (eq. 50-53); Schlick Fresnel (IOR 1.33) between the sky reflected from the prefiltered
-// environment map (mip by roughness) and the water body lit by the sun and the sky; a GGX sun
-// highlight with height-correlated Smith masking-shadowing whose roughness comes from the
-// mips' smoothness; foam lit like a diffuse surface; fog to the sky at the horizon.
+// PBR Neutral) into the sRGB target (issue 14), after the Atlas talk's water model:
+// - normals from the cascades' RGBA8 mip chains (eq. 50-53);
+// - the sky reflected from the prefiltered environment map (mip by roughness), weighted by
+//   Fresnel averaged over the slopes the normal does not show (Bruneton et al. 2010), the rest
+//   going to the water body: back-scattered light (greener at grazing views), bubbles below
+//   the foam (parallax), and the sun through thin crests, tinted by water's absorption;
+// - a GGX sun highlight with height-correlated Smith masking-shadowing;
+// - foam: the whitecap coverage thresholds a tiling two-scale pattern (a share c of the
+//   surface turns white), rougher water around it; fog to the sky at the horizon.
 //
 // Specular anti-aliasing (g.specular_aa.y = 1). With no temporal filter in a headset, the far
 // sea must not sparkle:
@@ -13,9 +17,10 @@
 //   pixel's extent, and the colours averaged: supersampling only where shading aliases;
 // - the slope variance a shading sample still cannot show widens the GGX lobe: filtered out of
 //   the normal maps (Toksvig: an averaged normal is shorter; the variance (1 - |n|)/|n| beyond
-//   the level-0, material shortening), below the finest cascade (Bruneton, Neyret & Holzschuch
-//   2010: integrated from the spectrum on the CPU), and the normal's change across the
-//   footprint (Tokuyoshi & Kaplanyan 2019, clamped).
+//   the level-0, material shortening), of the waves no cascade shows (Bruneton, Neyret &
+//   Holzschuch 2010; on the CPU, at least what Cox & Munk's observed slopes leave of the
+//   cascades'), and the normal's change across the footprint (Tokuyoshi & Kaplanyan 2019,
+//   clamped).
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 
@@ -36,6 +41,18 @@ const float WATER_F0 = 0.02;
 // Irradiance reflectance of the water body (the light scattered back up out of deep ocean
 // water, per channel): about 1-2 % in the blue-green, almost none in the red.
 const vec3 WATER_BODY_REFLECTANCE = vec3(0.002, 0.014, 0.022);
+// ...and seen at grazing angles, whose light crossed only the thin upper layer and the sides
+// of the waves (less of the red and the green absorbed).
+const vec3 WATER_BODY_GRAZING = vec3(0.004, 0.022, 0.022);
+// Absorption coefficients of pure water (1/m) at about 650, 550 and 450 nm (Pope & Fry 1997):
+// the tint of light that travelled through the water.
+const vec3 PURE_WATER_ABSORPTION = vec3(0.35, 0.057, 0.015);
+// Light through a crest: the path (m) it crosses, the share of the sun's light the crest
+// sends on toward the eye (forward scattering), and the colour of sea water's scattering
+// (∝ λ^-2 at 650, 550 and 450 nm, between pure water's λ^-4.3 and particles' λ^-1).
+const float CREST_PATH = 1.5;
+const float CREST_TRANSMITTANCE = 1.0;
+const vec3 WATER_SCATTER_COLOUR = vec3(0.48, 0.67, 1.0);
 // Diffuse albedo of foam (fresh foam is 0.5-0.8 over the visible).
 const vec3 FOAM_ALBEDO = vec3(0.75, 0.78, 0.8);
 // Screen-space filter: variance of the pixel footprint and the largest added alpha^2
@@ -50,8 +67,31 @@ const float SUPERSAMPLE_FROM_LOD = 0.5;
 
 // Texels per side of a whitecap level (`sim::whitecaps::WHITECAP_TEXELS`).
 const float WHITECAP_TEXELS = 256.0;
-// Size (m) of the foam pattern's cells: whitecap patches and streaks of a few metres.
-const float FOAM_CELL = 0.9;
+
+// The foam pattern (`render::ocean::foam_pattern`): uniform over [0, 1] at every mip, drawn at
+// two scales (m per tile): the large one shapes the patches, the small one, turned, breaks
+// their edges. The weights of the two in the sum the coverage thresholds.
+// One layer (the renderer's image views are arrays).
+layout(set = 0, binding = 5) uniform sampler2DArray u_foam_pattern;
+const float FOAM_TILE_LARGE = 6.0;
+const float FOAM_TILE_SMALL = 2.1;
+const float FOAM_WEIGHT_LARGE = 0.65;
+const mat2 FOAM_TURN = mat2(0.8, 0.6, -0.6, 0.8);
+// Half-width of the threshold's soft edge (pattern units): foam edges a few texels wide.
+const float FOAM_EDGE = 0.03;
+// Mip level of the large tile's pattern at which its cells (~23 texels) shrink to a pixel:
+// from there the drawn foam fades to the coverage itself (the area's share).
+const float FOAM_FADE_FROM_LOD = 3.0;
+const float FOAM_FADE_TO_LOD = 4.5;
+// Sub-surface bubbles left by breaking: seen at this depth (m) through the surface (parallax),
+// over a wider area than the foam, returning this share of the light that reaches them (a
+// few times the water's own: a pale turquoise under the foam, not a second foam).
+const float BUBBLE_DEPTH = 0.35;
+const float BUBBLE_TILE = 4.3;
+const float BUBBLE_SPREAD = 2.0;
+const float BUBBLE_REFLECTANCE = 0.06;
+// GGX α² the whitecap coverage adds to the water around the foam (broken, rough water).
+const float FOAM_ROUGHNESS_A2 = 0.25;
 
 // The whitecap coverage at rest position `xz`: the fine level inside its window, fading to
 // the coarse level toward its edge, and beyond both to the coarse level's mean. Sampled with
@@ -69,44 +109,50 @@ float whitecap_coverage(vec2 xz, vec2 dx, vec2 dy) {
     return cover;
 }
 
-// Smooth value noise in [0, 1] over cells of unit size.
-float hash(vec2 p) {
-    p = fract(p * vec2(0.1031, 0.1030));
-    p += dot(p, p.yx + 33.33);
-    return fract((p.x + p.y) * p.x);
-}
-float value_noise(vec2 p) {
-    vec2 i = floor(p);
-    vec2 f = p - i;
-    vec2 u = f * f * (3.0 - 2.0 * f);
-    float a = hash(i), b = hash(i + vec2(1.0, 0.0));
-    float c = hash(i + vec2(0.0, 1.0)), d = hash(i + vec2(1.0, 1.0));
-    return mix(mix(a, b, u.x), mix(c, d, u.x), u.y);
-}
-
-// Foam seen at `xz`: coverage c thresholds a two-octave pattern (about a share c of the
-// surface turns white: patches, not a grey veil); where the footprint outgrows the pattern's
-// cells the pattern would alias, so the coverage itself (its area mean) is shown.
-float whitecap_foam(vec2 xz, vec2 dx, vec2 dy) {
-    float c = whitecap_coverage(xz, dx, dy);
-    vec2 p = xz / FOAM_CELL;
-    float n = 0.55 * value_noise(p) + 0.3 * value_noise(p * 2.3 + 17.0)
-            + 0.15 * value_noise(p * 5.1 - 9.0);
-    // The sum clusters around ½; stretched toward a uniform spread.
-    n = clamp(0.5 + 2.2 * (n - 0.5), 0.0, 1.0);
-    // About a share c of the surface turns white: the pattern's highest values, so patches
-    // grow and merge where the coverage is high and thin to flecks where it is low (the
-    // stretched pattern reaches 1 often: none at all where there is no coverage).
-    float pattern = smoothstep(1.0 - c - 0.05, 1.0 - c + 0.05, n) * min(8.0 * c, 1.0);
-    // Thicker toward a patch's heart, thin and broken at its edges.
-    pattern *= 0.7 + 0.3 * value_noise(p * 7.3 + 3.0);
-    float footprint = max(length(dx), length(dy)) / FOAM_CELL;
-    return clamp(mix(pattern, c, clamp(2.0 * footprint - 0.5, 0.0, 1.0)), 0.0, 1.0);
+// The value t a share `c` of n = a·u₁ + b·u₂ exceeds, u₁, u₂ uniform on [0, 1] and
+// independent, a = FOAM_WEIGHT_LARGE ≥ b: the inverse of the sum's (trapezoidal) distribution,
+// so thresholding the two-scale pattern at t whitens a share c of the surface.
+float share_threshold(float c) {
+    const float a = FOAM_WEIGHT_LARGE;
+    const float b = 1.0 - FOAM_WEIGHT_LARGE;
+    const float tail = b / (2.0 * a);
+    if (c < tail) {
+        return 1.0 - sqrt(2.0 * a * b * c);
+    }
+    if (c > 1.0 - tail) {
+        return sqrt(2.0 * a * b * (1.0 - c));
+    }
+    return a * (1.0 - c) + 0.5 * b;
 }
 
-// Adds whitecaps `caps` to a cascade foam coverage (independent coverages).
-float with_caps(float foam, float caps) {
-    return 1.0 - (1.0 - foam) * (1.0 - caps);
+// The foam drawn at `xz` for coverage `c`: the two-scale pattern above share_threshold(c), so
+// rising coverage eats into the pattern (flecks, then a web, then a sheet with holes); where
+// the footprint (`dx`, `dy`) outgrows the pattern's cells, the coverage itself.
+float drawn_foam(vec2 xz, vec2 dx, vec2 dy, float c) {
+    vec2 large = xz / FOAM_TILE_LARGE;
+    vec2 small = FOAM_TURN * xz / FOAM_TILE_SMALL + 0.37;
+    float u1 = textureGrad(u_foam_pattern, vec3(large, 0.0), dx / FOAM_TILE_LARGE,
+                           dy / FOAM_TILE_LARGE).r;
+    float u2 = textureGrad(u_foam_pattern, vec3(small, 0.0), FOAM_TURN * dx / FOAM_TILE_SMALL,
+                           FOAM_TURN * dy / FOAM_TILE_SMALL).r;
+    float n = FOAM_WEIGHT_LARGE * u1 + (1.0 - FOAM_WEIGHT_LARGE) * u2;
+    float t = share_threshold(clamp(c, 0.0, 1.0));
+    float sharp = smoothstep(t - FOAM_EDGE, t + FOAM_EDGE, n) * smoothstep(0.0, 0.005, c);
+    float texels = max(length(dx), length(dy)) * (256.0 / FOAM_TILE_LARGE);
+    float far = smoothstep(FOAM_FADE_FROM_LOD, FOAM_FADE_TO_LOD, log2(max(texels, 1e-6)));
+    return mix(sharp, c, far);
+}
+
+// Bubbles under the surface at `xz` seen along unit `v` through normal `n`: the pattern on a
+// plane BUBBLE_DEPTH below, reached along the refracted ray (it slides against the foam as the
+// head moves), thresholded by the wider bubble coverage. The share of that plane lit.
+float bubbles_under(vec2 xz, vec3 v, vec3 n, vec2 dx, vec2 dy, float c) {
+    vec3 t = refract(-v, n, 1.0 / 1.33);
+    vec2 under = xz + t.xz / max(-t.y, 0.25) * BUBBLE_DEPTH;
+    float u = textureGrad(u_foam_pattern, vec3(under / BUBBLE_TILE + 0.61, 0.0),
+                          dx / BUBBLE_TILE, dy / BUBBLE_TILE).r;
+    float share = min(BUBBLE_SPREAD * c, 1.0);
+    return smoothstep(1.0 - share - 0.1, 1.0 - share + 0.1, u) * smoothstep(0.0, 0.005, c);
 }
 
 // The averaged normal's length a smoothness encodes: eq. 53 inverted.
@@ -155,28 +201,68 @@ Water water_at(vec2 xz, vec2 dx, vec2 dy, bool implicit) {
     return w;
 }
 
-// Radiance leaving the water toward the eye along `v`; `unshown`: slope variance the normal
-// does not show (specular anti-aliasing), < 0 for the plain shading.
-vec3 shade(Water w, vec3 v, float unshown) {
+// The foam at one pixel, computed once and shared by its shading samples: the whitecap
+// coverage (the area's share foamed), the share of the pixel drawn white, and the share of
+// the bubble plane below that is lit.
+struct Foam {
+    float coverage;
+    float drawn;
+    float bubbles;
+};
+
+// Reflectance of water averaged over the slopes the normal does not show, a Gaussian of
+// standard deviation σ_v along the view (Bruneton, Neyret & Holzschuch 2010, their fit): at
+// grazing views the slopes turn facets toward the eye, so a rough sea reflects less of the sky
+// than Schlick's flat-surface value. σ_v² = α²/2 for the isotropic lobe of GGX α² `a2`.
+float mean_fresnel(float ndotv, float a2) {
+    float sigma_v = sqrt(0.5 * a2);
+    float f = pow(1.0 - ndotv, 5.0 * exp(-2.69 * sigma_v)) / (1.0 + 22.7 * pow(sigma_v, 1.5));
+    return WATER_F0 + (1.0 - WATER_F0) * f;
+}
+
+// Radiance leaving the water toward the eye along `v` at height `height` (m above the mean
+// sea); `unshown`: slope variance the normal does not show (specular anti-aliasing: the
+// unresolved waves' and what filtering hid), < 0 for the plain shading (which still counts
+// the unresolved waves').
+vec3 shade(Water w, Foam f, vec3 v, float height, float unshown) {
     vec3 n = w.n;
     float ndotv = max(dot(n, v), 1e-3);
-    float fresnel = WATER_F0 + (1.0 - WATER_F0) * pow(1.0 - ndotv, 5.0);
     vec3 l = g.sun.xyz;
 
     // GGX roughness; smoothness 1 is a mirror, clamped so the sun stays a few pixels wide.
+    // The slopes no cascade shows (the observed total's remainder) roughen it in every path:
+    // they are the sea's, not a filter's.
     float rough = max(1.0 - w.smoothness, MIN_ROUGHNESS);
-    float a2 = rough * rough * rough * rough;
+    float a2 = rough * rough * rough * rough + g.specular_aa.x;
     if (unshown >= 0.0) {
         // The level-0 look, plus the slope variance this sample cannot show.
         a2 = min(g.specular_aa.w + unshown, 1.0);
     }
-    // The sky reflected, from the map level prefiltered for this roughness (α² = r⁴), the ray
-    // kept above the horizon.
+    // Broken water around the foam is rougher.
+    a2 = min(a2 + FOAM_ROUGHNESS_A2 * f.coverage, 1.0);
+    float alpha_rough = sqrt(sqrt(a2));
+    float fresnel = mean_fresnel(ndotv, a2);
+    // The sky reflected, from the map level prefiltered for this roughness, the ray kept
+    // above the horizon.
     vec3 r = reflect(-v, n);
     r.y = abs(r.y);
-    vec3 reflected = sky_env(r, sqrt(sqrt(a2)));
+    vec3 reflected = sky_env(r, alpha_rough);
+
+    // The water body: light scattered back up by the water (greener at grazing views, which
+    // see the light that crossed the thin upper layer), the bubbles below the foam, and the
+    // sun through thin crests between the eye and the sun (strongest high on a wave whose
+    // back faces the sun), each tinted by the absorption along its path.
     vec3 irradiance = horizontal_illuminance();
-    vec3 body = WATER_BODY_REFLECTANCE * irradiance / PI;
+    float grazing = (1.0 - ndotv) * (1.0 - ndotv);
+    vec3 body = mix(WATER_BODY_REFLECTANCE, WATER_BODY_GRAZING, grazing) * irradiance / PI;
+    vec3 bubble_tint = exp(-PURE_WATER_ABSORPTION * 2.0 * BUBBLE_DEPTH);
+    body += BUBBLE_REFLECTANCE * f.bubbles * bubble_tint * irradiance / PI;
+    float crest = clamp(height / max(0.5 * g.sun.w, 0.05), 0.0, 1.0);
+    float behind = pow(max(dot(-v, l), 0.0), 4.0);
+    float back_lit = (0.5 - 0.5 * dot(l, n)) * (0.5 - 0.5 * dot(l, n));
+    vec3 crest_tint = WATER_SCATTER_COLOUR * exp(-PURE_WATER_ABSORPTION * CREST_PATH);
+    body += g.sun_illuminance.rgb * (CREST_TRANSMITTANCE / PI * crest * behind * back_lit)
+            * crest_tint;
     vec3 colour = mix(body, reflected, fresnel);
 
     // The sun: GGX D, Schlick F at the half vector, height-correlated Smith visibility.
@@ -190,8 +276,9 @@ vec3 shade(Water w, vec3 v, float unshown) {
     float f_sun = WATER_F0 + (1.0 - WATER_F0) * pow(1.0 - max(dot(v, hv), 0.0), 5.0);
     colour += g.sun_illuminance.rgb * (ggx * vis * f_sun * ndotl);
 
+    // Foam: a diffuse white layer over the share of the pixel it covers.
     vec3 foam = FOAM_ALBEDO * irradiance / PI;
-    return mix(colour, foam, w.foam * 0.9);
+    return mix(colour, foam, f.drawn);
 }
 
 void main() {
@@ -214,8 +301,13 @@ void main() {
 
     // Everything that takes implicit derivatives happens here, in uniform control flow.
     Water w = water_at(v_xz, dx, dy, true);
-    float caps = g.whitecaps[1].w < 0.0 ? 0.0 : whitecap_foam(v_xz, dx, dy);
-    w.foam = with_caps(w.foam, caps);
+    // Foam coverage: the whole surface's whitecaps, or each cascade's own foam (eq. 51) when
+    // whitecaps are off.
+    Foam f;
+    f.coverage = g.whitecaps[1].w < 0.0 ? w.foam : whitecap_coverage(v_xz, dx, dy);
+    f.drawn = drawn_foam(v_xz, dx, dy, f.coverage);
+    f.bubbles = bubbles_under(v_xz, v, w.n, dx, dy, f.coverage);
+    float height = v_world.y;
     vec3 dndx = dFdx(w.n);
     vec3 dndy = dFdy(w.n);
     int cascades = int(g.params.x);
@@ -225,29 +317,28 @@ void main() {
 
     vec3 colour;
     if (g.specular_aa.y < 0.5) {
-        colour = shade(w, v, -1.0);
+        colour = shade(w, f, v, height, -1.0);
     } else {
         float kernel = min(2.0 * PIXEL_VARIANCE * (dot(dndx, dndx) + dot(dndy, dndy)),
                            MAX_KERNEL_ALPHA2);
-        float tail = clamp(lod, 0.0, 1.0) * g.specular_aa.x;
+        // The slopes no cascade shows (the observed total's remainder, `sim::spectrum::
+        // unresolved_slope_variance`) roughen every sample, near or far.
+        float tail = g.specular_aa.x;
         if (lod > SUPERSAMPLE_FROM_LOD) {
             // Four shading positions, each filtering a third of the pixel's extent (mips
             // log2(3) levels finer), their variance terms scaled to that footprint: the
-            // normal's change across it is a ninth of that across the pixel, and the waves
-            // below the finest cascade are unresolved once its texels are smaller than it.
+            // normal's change across it is a ninth of that across the pixel.
             vec2 hx = dx / 3.0;
             vec2 hy = dy / 3.0;
-            float sub_tail = clamp(lod - log2(3.0), 0.0, 1.0) * g.specular_aa.x;
             colour = vec3(0.0);
             for (int i = 0; i < 4; ++i) {
                 vec2 xz = v_xz + SUBSAMPLES[i].x * dx + SUBSAMPLES[i].y * dy;
                 Water s = water_at(xz, hx, hy, false);
-                s.foam = with_caps(s.foam, caps);
-                colour += shade(s, v, s.filtered + sub_tail + kernel / 9.0);
+                colour += shade(s, f, v, height, s.filtered + tail + kernel / 9.0);
             }
             colour *= 0.25;
         } else {
-            colour = shade(w, v, w.filtered + tail + kernel);
+            colour = shade(w, f, v, height, w.filtered + tail + kernel);
         }
     }
 

@@ -321,8 +321,12 @@ fn msaa_blends_the_horizon_edge() {
     assert!(shares[1] > 0.5, "MSAA edges do not blend: {shares:?}");
 }
 
+/// Luminance change (of 255) between frames that reads as a flicker.
+const FLICKER_JUMP: f32 = 32.0;
+
 /// Share of far-band pixels whose highlight state (luminance of at least `threshold`) toggles
-/// between consecutive frames, averaged over the frames.
+/// between consecutive frames with a jump of at least [`FLICKER_JUMP`] (a sparkle coming or
+/// going, not a smooth glint drifting across the threshold), averaged over the frames.
 fn highlight_toggles(frames: &[Frame], threshold: f32) -> f64 {
     let mut rates = Vec::new();
     for pair in frames.windows(2) {
@@ -335,7 +339,8 @@ fn highlight_toggles(frames: &[Frame], threshold: f32) -> f64 {
                 for x in 0..a.width {
                     let i = (y * a.width + x) as usize;
                     n += 1;
-                    if (la[i] >= threshold) != (lb[i] >= threshold) {
+                    let crossed = (la[i] >= threshold) != (lb[i] >= threshold);
+                    if crossed && (la[i] - lb[i]).abs() >= FLICKER_JUMP {
                         toggled += 1;
                     }
                 }

@@ -116,7 +116,10 @@ fn monahan(wind: f32) -> f64 {
 }
 
 /// Mean whitecap coverage of the fine level (±64 m around the origin) and of the coarse one
-/// (±256 m) of the default sea at `wind`, averaged over the last `average` seconds of `duration` seconds stepped at `rate` Hz.
+/// (±256 m) of the default sea at `wind`, averaged over the last `average` seconds of
+/// `duration` seconds stepped at `rate` Hz. The mean coverage is the area the renderer draws
+/// white: it whitens a share c of a texel of coverage c (`render::ocean::foam_pattern`,
+/// measured in pixels by `tests/render_foam.rs`).
 fn whitecap_coverage(wind: f32, duration: f64, average: f64, rate: f64) -> (f64, f64) {
     let cfg = default_sea(wind, 1);
     let mut core = SimCore::new(cfg.clone()).unwrap();
@@ -140,7 +143,8 @@ fn whitecap_coverage_follows_monahan() {
     println!("wind  Monahan W  fine level  coarse level  fine / W");
     let mut rows = Vec::new();
     for wind in [8.0f32, 12.0, 16.0, 20.0] {
-        let (fine, coarse) = whitecap_coverage(wind, 30.0, 20.0, 10.0);
+        // After a minute of simulated time: the mean over its last 20 s.
+        let (fine, coarse) = whitecap_coverage(wind, 60.0, 20.0, 10.0);
         let w = monahan(wind);
         println!(
             "{wind:>4}  {:>7.2} %  {:>8.2} %  {:>10.2} %  {:>8.2}",

@@ -45,6 +45,11 @@ pub struct HeadlessArgs {
     /// Frames at the start left out of frame_times.json.
     #[arg(long, default_value_t = 10)]
     pub warmup: u64,
+    /// Seconds of simulated time before the first frame, stepped at 10 Hz without drawing: foam
+    /// and floating bodies start settled (whitecaps need ~5 s to build up). Frame numbers
+    /// (--capture, --warmup, file names) count drawn frames only.
+    #[arg(long, default_value_t = 0.0)]
+    pub settle: f64,
     /// Output directory for the images and frame_times.json (created if missing).
     #[arg(long)]
     pub out: PathBuf,
@@ -131,6 +136,9 @@ pub enum PerfArg {
     Boost,
 }
 
+/// The longest `--settle` (s): 6000 CPU steps.
+const MAX_SETTLE_S: f64 = 600.0;
+
 /// Where the default run writes when there is no display.
 pub const FALLBACK_DIR: &str = "vr-ocean-headless";
 
@@ -151,15 +159,23 @@ pub fn headless_cmd(a: HeadlessArgs) -> CmdResult {
     if let Some(bad) = capture.iter().find(|&&f| f >= a.frames) {
         return Err(ParamError::new("capture", *bad as f64, "frame numbers below --frames").into());
     }
+    if !(0.0..=MAX_SETTLE_S).contains(&a.settle) {
+        return Err(ParamError::new("settle", a.settle, "seconds in [0, 600]").into());
+    }
+    let settle = (a.settle / desktop::SETTLE_DT).round() as u64;
+    // The app numbers settling frames too: drawn frame k is frame settle + k.
+    let capture = capture.into_iter().map(|f| f + settle).collect();
     // Checked before any window or device opens.
     let bodies = a.view.bodies()?;
-    let mut opts = a.view.run_options(capture, a.warmup.min(a.frames - 1))?;
+    let mut opts = a
+        .view
+        .run_options(capture, settle + a.warmup.min(a.frames - 1))?;
     opts.floating = Some(FloatOptions {
         bodies,
         deck: DeckPlacement::UnderViewer,
     });
     export::prepare_dir(&a.out)?;
-    let mut xr = HeadlessXr::new(&a.view.context(), size, path, a.frames)?;
+    let mut xr = HeadlessXr::new(&a.view.context(), size, path, a.frames)?.settle(settle);
     a.view.resolve_msaa(&mut opts, xr.gpu());
     a.view.resolve_desktop_stereo(&mut opts, xr.gpu());
     println!(
@@ -174,6 +190,7 @@ pub fn headless_cmd(a: HeadlessArgs) -> CmdResult {
     let mut pngs = FrameWriter {
         dir: a.out.clone(),
         format: a.format,
+        first_drawn: settle,
         saved: Vec::new(),
     };
     // Counts validation errors over the whole run, shutdown included.
@@ -190,10 +207,12 @@ pub fn headless_cmd(a: HeadlessArgs) -> CmdResult {
     validation.check()
 }
 
-/// Saves captured frames as `frame_NNNNN_{left,right}.{png,jpg}`.
+/// Saves captured frames as `frame_NNNNN_{left,right}.{png,jpg}`, numbered from the first
+/// drawn frame.
 struct FrameWriter {
     dir: PathBuf,
     format: ImageFormat,
+    first_drawn: u64,
     saved: Vec<PathBuf>,
 }
 
@@ -204,7 +223,8 @@ impl app::RunHooks for FrameWriter {
                 ImageFormat::Png => "png",
                 ImageFormat::Jpeg => "jpg",
             };
-            let file = self.dir.join(format!("frame_{:05}_{eye}.{ext}", c.frame));
+            let drawn = c.frame - self.first_drawn;
+            let file = self.dir.join(format!("frame_{drawn:05}_{eye}.{ext}"));
             let saved = match self.format {
                 ImageFormat::Png => export::save_png(&file, c.width, c.height, pixels),
                 ImageFormat::Jpeg => export::save_jpeg(&file, c.width, c.height, pixels),
@@ -358,6 +378,8 @@ fn headless_fallback(why: &str, view: ViewArgs) -> CmdResult {
         path: None,
         capture: Vec::new(),
         warmup: 10,
+        // Foam and floating bodies in their steady state from the first image.
+        settle: 10.0,
         out: out.clone(),
         format: ImageFormat::Png,
     })?;

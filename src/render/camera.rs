@@ -41,7 +41,7 @@ pub struct Globals {
     pub eye_pos: [[f32; 4]; 2],
     /// The LOD viewer (xyz) and the simulation time (w).
     pub lod_viewer: [f32; 4],
-    /// Unit direction towards the sun (xyz) and its intensity (w).
+    /// Unit direction towards the sun (xyz) and the sea's significant wave height (w, m).
     pub sun: [f32; 4],
     /// Patch size L of cascades 0..3 (m).
     pub patch_size: [f32; 4],

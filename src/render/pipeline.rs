@@ -36,7 +36,8 @@ pub struct Pipelines {
     /// Colour + depth, cleared; colour ends in `COLOR_ATTACHMENT_OPTIMAL` (what an OpenXR
     /// swapchain image must be in when released).
     pub render_pass: vk::RenderPass,
-    /// Set 0: globals (binding 0), displacement (1), normal/foam (2), whitecaps (3), sky (4).
+    /// Set 0: globals (binding 0), displacement (1), normal/foam (2), whitecaps (3), sky (4),
+    /// foam pattern (5).
     pub set_layout: vk::DescriptorSetLayout,
     /// The layout all pipelines share.
     pub layout: vk::PipelineLayout,
@@ -118,6 +119,12 @@ impl Pipelines {
             // The sky's prefiltered environment map (`ocean::sky_map`).
             vk::DescriptorSetLayoutBinding::default()
                 .binding(4)
+                .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::FRAGMENT),
+            // The tiling foam pattern (`ocean::foam_pattern`).
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(5)
                 .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
                 .descriptor_count(1)
                 .stage_flags(vk::ShaderStageFlags::FRAGMENT),

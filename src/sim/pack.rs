@@ -91,6 +91,24 @@ pub fn mip_chain_len(grid: GridSize) -> usize {
     (4 * grid.texels() - 1) / 3
 }
 
+/// Box-filtered mips of an R8 chain (the eq. 55 layout of `grid`) from its level 0. Tiling
+/// and toroidal maps average correctly: the side is a power of two, so a 2×2 block never
+/// straddles the wrap.
+pub fn build_r8_mips(grid: GridSize, chain: &mut [u8]) {
+    for level in 1..grid.mip_levels() {
+        let (src_side, dst_side) = (grid.n() >> (level - 1), grid.n() >> level);
+        let (head, tail) = chain.split_at_mut(mip_offset(grid, level));
+        let src = &head[mip_offset(grid, level - 1)..];
+        for r in 0..dst_side {
+            for c in 0..dst_side {
+                let at = |rr: usize, cc: usize| src[(2 * r + rr) * src_side + 2 * c + cc] as u32;
+                let sum = at(0, 0) + at(0, 1) + at(1, 0) + at(1, 1);
+                tail[r * dst_side + c] = ((sum + 2) / 4) as u8;
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -18,15 +18,17 @@ use crate::sim::whitecaps::{WhitecapInput, WhitecapState, Whitecaps};
 pub struct Surfaces {
     /// Per-cascade fields.
     pub cascades: Vec<CascadeSurface>,
-    /// Slope variance (mean |∇h|²) of the waves too short for any cascade's grid: BRDF
-    /// roughness for the renderer's specular anti-aliasing (see
-    /// [`crate::sim::spectrum::SlopeVariance`]).
+    /// Slope variance (mean |∇h|²) no cascade's grid shows: BRDF roughness for the renderer
+    /// (see [`crate::sim::spectrum::unresolved_slope_variance`]).
     pub unresolved_slope_variance: f32,
     /// Length of the level-0 normals (eq. 49 of the material roughness): the renderer's
     /// specular anti-aliasing counts only the shortening beyond it, which is filtering.
     pub base_normal_length: f32,
     /// Foam coverage of the whole surface around the viewer ([`crate::sim::whitecaps`]).
     pub whitecaps: Whitecaps,
+    /// Expected significant wave height 4·√(Σ variance) (m) of all cascades: the renderer
+    /// tells crests from troughs by height over it.
+    pub significant_height: f32,
 }
 
 impl Surfaces {
@@ -51,6 +53,7 @@ impl Surfaces {
             unresolved_slope_variance: 0.0,
             base_normal_length: 1.0,
             whitecaps: Whitecaps::default(),
+            significant_height: 0.0,
         }
     }
 
@@ -254,12 +257,17 @@ impl SimCore {
             dt,
         };
         let phase = LoopPhase::new(t, waves.loop_period);
-        out.unresolved_slope_variance = self
+        out.unresolved_slope_variance = crate::sim::spectrum::unresolved_slope_variance(
+            waves.wind_speed,
+            self.cascades.iter().map(|c| c.spectrum.slopes),
+        ) as f32;
+        out.base_normal_length = crate::sim::pack::normal_length(waves.roughness);
+        let variance: f64 = self
             .cascades
             .iter()
-            .map(|c| c.spectrum.slopes.unresolved)
-            .sum::<f64>() as f32;
-        out.base_normal_length = crate::sim::pack::normal_length(waves.roughness);
+            .map(|c| c.spectrum.expected_variance)
+            .sum();
+        out.significant_height = 4.0 * variance.sqrt() as f32;
         let mut times = StageTimes::default();
         for (c, surface) in self.cascades.iter_mut().zip(&mut out.cascades) {
             surface.patch = c.spec.patch;

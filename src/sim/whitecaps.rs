@@ -181,7 +181,7 @@ impl WhitecapState {
             level.spacing = s;
             level.origin = origin;
             level.mean = foam.iter().sum::<f32>() / foam.len() as f32;
-            build_mips(&mut level.coverage);
+            crate::sim::pack::build_r8_mips(grid(), &mut level.coverage);
         }
     }
 }
@@ -299,24 +299,6 @@ fn update_foam(
                 crow[col] = (f * 255.0 + 0.5) as u8;
             }
         });
-}
-
-/// Box-filtered mips of the R8 chain from its level 0 (toroidal storage averages correctly:
-/// the side is a power of two, so a 2×2 block never straddles the wrap).
-fn build_mips(chain: &mut [u8]) {
-    let g = grid();
-    for level in 1..g.mip_levels() {
-        let (src_side, dst_side) = (g.n() >> (level - 1), g.n() >> level);
-        let (head, tail) = chain.split_at_mut(crate::sim::pack::mip_offset(g, level));
-        let src = &head[crate::sim::pack::mip_offset(g, level - 1)..];
-        for r in 0..dst_side {
-            for c in 0..dst_side {
-                let at = |rr: usize, cc: usize| src[(2 * r + rr) * src_side + 2 * c + cc] as u32;
-                let sum = at(0, 0) + at(0, 1) + at(1, 0) + at(1, 1);
-                tail[r * dst_side + c] = ((sum + 2) / 4) as u8;
-            }
-        }
-    }
 }
 
 #[cfg(test)]

@@ -162,3 +162,35 @@ impl Frame {
         path
     }
 }
+
+/// [`render`] after `skip` settling frames ([`HeadlessXr::settle`], 0.1 s apart, simulated but
+/// not drawn); `frames` drawn frames follow, numbered from `skip` (what `opts.capture` names).
+pub fn render_after(
+    opts: &RunOptions,
+    path: CameraPath,
+    skip: u64,
+    frames: u64,
+    w: u32,
+    h: u32,
+) -> (RunReport, Vec<Frame>) {
+    let mut xr = HeadlessXr::new(&validated(), EyeSize::new(w, h).unwrap(), path, frames)
+        .unwrap_or_else(|e| panic!("cannot start headless Vulkan (lavapipe): {e}"))
+        .settle(skip);
+    let mut hooks = Collect(Vec::new());
+    let report = app::run(&mut xr, opts, &mut hooks).unwrap_or_else(|e| panic!("run: {e}"));
+    let log = xr_validation(&xr);
+    drop(xr);
+    assert_eq!(
+        report.validation_errors,
+        0,
+        "validation: {:?}",
+        log.messages()
+    );
+    assert_eq!(
+        log.errors(),
+        0,
+        "validation at teardown: {:?}",
+        log.messages()
+    );
+    (report, hooks.0)
+}

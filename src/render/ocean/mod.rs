@@ -6,6 +6,8 @@
 //! - `slots`: the frames-in-flight ring (what the CPU writes per frame);
 //! - `textures`: the cascade textures, their samplers and the upload;
 //! - `sky_map`: the sky's prefiltered environment map and its light, baked when the sun moves;
+//! - `foam_pattern`: the tiling foam texture the whitecap coverage thresholds, made at start-up;
+//! - `upload`: the one-time copies of textures made on the CPU;
 //! - `mesh`: the patch, skirt and sky meshes, uploaded once;
 //! - `targets`: views and framebuffers of the target images;
 //! - `pass`: the uniforms, cascade fades and the pass's recording;
@@ -20,6 +22,7 @@
 //! - Creation is all or nothing: when a step fails, every part made before it is destroyed
 //!   (tested by injecting a failure at each creation in turn).
 
+mod foam_pattern;
 mod mesh;
 mod pass;
 mod sky_map;
@@ -27,12 +30,14 @@ mod slots;
 pub mod solids;
 mod targets;
 mod textures;
+mod upload;
 
 use std::time::{Duration, Instant};
 
 use ash::vk;
 use glam::Vec3;
 
+use self::foam_pattern::FoamPattern;
 use self::mesh::MeshBuffers;
 use self::pass::{PassConstants, PassRecorder, ResolveAfter};
 use self::sky_map::SkyMap;
@@ -171,6 +176,7 @@ struct Parts {
     mesh: Option<MeshBuffers>,
     targets: Option<Targets>,
     sky: Option<SkyMap>,
+    foam: Option<FoamPattern>,
     slots: Option<Slots>,
 }
 
@@ -181,6 +187,9 @@ impl Parts {
         }
         if let Some(mut t) = self.targets.take() {
             t.destroy(ctx);
+        }
+        if let Some(mut f) = self.foam.take() {
+            f.destroy(ctx);
         }
         if let Some(mut s) = self.sky.take() {
             s.destroy(ctx);
@@ -205,6 +214,7 @@ pub struct OceanRenderer {
     mesh: MeshBuffers,
     targets: Targets,
     sky: SkyMap,
+    foam: FoamPattern,
     slots: Slots,
     pass: PassConstants,
     extent: vk::Extent2D,
@@ -237,6 +247,7 @@ impl OceanRenderer {
             mesh: Some(mesh),
             targets: Some(out_targets),
             sky: Some(sky),
+            foam: Some(foam),
             slots: Some(slots),
         } = parts
         else {
@@ -249,6 +260,7 @@ impl OceanRenderer {
             mesh,
             targets: out_targets,
             sky,
+            foam,
             slots,
             pass: PassConstants::new(config, lod.settings()),
             extent: targets.extent,
@@ -427,6 +439,7 @@ impl OceanRenderer {
     pub fn destroy(&mut self, ctx: &GpuContext) {
         self.slots.destroy(ctx);
         self.targets.destroy(ctx);
+        self.foam.destroy(ctx);
         self.sky.destroy(ctx);
         self.mesh.destroy(ctx);
         self.textures.destroy(ctx);
@@ -496,7 +509,8 @@ fn make_parts(
     let frames = settings.frames_in_flight;
     let sky = parts.sky.insert(SkyMap::new(ctx, &settings.sun)?);
     let [disp, norm, caps] = textures.descriptors();
-    let images = [disp, norm, caps, sky.descriptor()];
+    let foam = parts.foam.insert(FoamPattern::new(ctx)?);
+    let images = [disp, norm, caps, sky.descriptor(), foam.descriptor()];
     parts.slots = Some(Slots::new(ctx, pipelines, &images, sizes, frames)?);
     Ok(())
 }

@@ -57,7 +57,10 @@ impl PassConstants {
         g.set_eyes(input.eyes);
         let viewer = (input.eyes[0].position + input.eyes[1].position) * 0.5;
         g.lod_viewer = viewer.extend(input.surfaces.time() as f32).to_array();
-        g.sun = light.sun_direction.extend(0.0).to_array();
+        g.sun = light
+            .sun_direction
+            .extend(input.surfaces.significant_height)
+            .to_array();
         g.sun_radiance = light.sun_radiance.extend(light.sun_cos_radius).to_array();
         g.sun_illuminance = light.sun_illuminance.extend(light.exposure).to_array();
         g.sky_illuminance = light.sky_illuminance.extend(light.levels as f32).to_array();

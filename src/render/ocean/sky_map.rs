@@ -6,10 +6,10 @@
 use ash::vk;
 use glam::Vec3;
 
-use crate::render::barrier::{self, Access, ImageBarrier};
+use super::upload::{upload_levels, Level};
 use crate::render::context::GpuContext;
 use crate::render::error::RenderError;
-use crate::render::memory::{Buffer, Image, ImageDesc};
+use crate::render::memory::{Image, ImageDesc};
 use crate::render::sky::{self, EnvMap, Sky, SunSky, SUN_ANGULAR_RADIUS_DEG};
 
 /// Level 0 of the environment map: texels along the azimuth...
@@ -139,67 +139,30 @@ fn light_of(sky: &Sky, levels: u32) -> SkyLight {
     }
 }
 
-/// Copies every level of `map` (as half floats) into `image` through a temporary staging
-/// buffer and leaves it ready for sampling.
+/// Copies every level of `map` (as half floats) into `image`, ready for sampling.
 fn upload(ctx: &GpuContext, map: &EnvMap, image: &Image) -> Result<(), RenderError> {
-    let texels: usize = map.levels.iter().map(Vec::len).sum();
-    let mut staging = Buffer::new(
-        ctx,
-        (texels * 8) as u64,
-        vk::BufferUsageFlags::TRANSFER_SRC,
-        true,
-    )?;
-    let mut regions = Vec::with_capacity(map.levels.len());
-    let bytes = staging.bytes_mut();
-    let mut offset = 0usize;
-    for (m, level) in map.levels.iter().enumerate() {
-        let (w, h) = map.level_size(m);
-        for (i, t) in level.iter().enumerate() {
-            let half = t.map(|c| half::f16::from_f32(c).to_bits());
-            bytes[offset + 8 * i..offset + 8 * i + 8].copy_from_slice(bytemuck::bytes_of(&half));
-        }
-        regions.push(vk::BufferImageCopy {
-            buffer_offset: offset as u64,
-            buffer_row_length: 0,
-            buffer_image_height: 0,
-            image_subresource: vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                mip_level: m as u32,
-                base_array_layer: 0,
-                layer_count: 1,
-            },
-            image_offset: vk::Offset3D::default(),
-            image_extent: vk::Extent3D {
-                width: w,
-                height: h,
-                depth: 1,
-            },
-        });
-        offset += 8 * level.len();
-    }
-    let levels = map.levels.len() as u32;
-    let result = crate::render::one_shot(ctx, |cmd| {
-        let d = &ctx.device;
-        let to_copy = ImageBarrier::colour(image.raw, 1, Access::Nothing, Access::TransferWrite)
-            .mips(levels)
-            .discard();
-        barrier::record(d, cmd, [to_copy], None);
-        // SAFETY: `cmd` is recording; the image is in TRANSFER_DST_OPTIMAL after the barrier
-        // and every region lies inside the staging buffer and its level.
-        unsafe {
-            d.cmd_copy_buffer_to_image(
-                cmd,
-                staging.raw,
-                image.raw,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                &regions,
-            )
-        };
-        let to_read =
-            ImageBarrier::colour(image.raw, 1, Access::TransferWrite, Access::ShaderSampled)
-                .mips(levels);
-        barrier::record(d, cmd, [to_read], None);
-    });
-    staging.destroy(ctx);
-    result
+    let halves: Vec<Vec<u8>> = map
+        .levels
+        .iter()
+        .map(|level| {
+            let texels: Vec<[u16; 4]> = level
+                .iter()
+                .map(|t| t.map(|c| half::f16::from_f32(c).to_bits()))
+                .collect();
+            bytemuck::cast_slice(&texels).to_vec()
+        })
+        .collect();
+    let levels: Vec<Level<'_>> = halves
+        .iter()
+        .enumerate()
+        .map(|(m, bytes)| {
+            let (width, height) = map.level_size(m);
+            Level {
+                bytes,
+                width,
+                height,
+            }
+        })
+        .collect();
+    upload_levels(ctx, image, &levels)
 }

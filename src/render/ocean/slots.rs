@@ -70,7 +70,7 @@ impl Slots {
     pub fn new(
         ctx: &GpuContext,
         pipelines: &Pipelines,
-        images: &[vk::DescriptorImageInfo; 4],
+        images: &[vk::DescriptorImageInfo; 5],
         sizes: SlotSizes,
         frames: usize,
     ) -> Result<Self, RenderError> {
@@ -89,7 +89,7 @@ impl Slots {
         &mut self,
         ctx: &GpuContext,
         pipelines: &Pipelines,
-        images: &[vk::DescriptorImageInfo; 4],
+        images: &[vk::DescriptorImageInfo; 5],
         sizes: SlotSizes,
         frames: usize,
     ) -> Result<(), RenderError> {
@@ -100,7 +100,7 @@ impl Slots {
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                descriptor_count: 4 * frames as u32,
+                descriptor_count: 5 * frames as u32,
             },
         ];
         let info = vk::DescriptorPoolCreateInfo::default()
@@ -137,7 +137,7 @@ impl Slot {
         ctx: &GpuContext,
         p: &Pipelines,
         descriptor_pool: vk::DescriptorPool,
-        images: &[vk::DescriptorImageInfo; 4],
+        images: &[vk::DescriptorImageInfo; 5],
         sizes: SlotSizes,
     ) -> Result<Self, RenderError> {
         let mut slot = Self {
@@ -165,7 +165,7 @@ impl Slot {
         ctx: &GpuContext,
         p: &Pipelines,
         descriptor_pool: vk::DescriptorPool,
-        images: &[vk::DescriptorImageInfo; 4],
+        images: &[vk::DescriptorImageInfo; 5],
         sizes: SlotSizes,
     ) -> Result<(), RenderError> {
         let d = &ctx.device;
@@ -206,8 +206,8 @@ impl Slot {
             offset: 0,
             range: vk::WHOLE_SIZE,
         }];
-        let [disp, norm, caps, sky] = *images;
-        let (disp, norm, caps, sky) = ([disp], [norm], [caps], [sky]);
+        let [disp, norm, caps, sky, foam] = *images;
+        let (disp, norm, caps, sky, foam) = ([disp], [norm], [caps], [sky], [foam]);
         let write = |binding, ty| {
             vk::WriteDescriptorSet::default()
                 .dst_set(self.set)
@@ -221,6 +221,7 @@ impl Slot {
             write(2, image).image_info(&norm),
             write(3, image).image_info(&caps),
             write(4, image).image_info(&sky),
+            write(5, image).image_info(&foam),
         ];
         // SAFETY: the set is not in use; the buffer, views and samplers are alive.
         unsafe { d.update_descriptor_sets(&writes, &[]) };

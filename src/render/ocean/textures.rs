@@ -246,7 +246,7 @@ fn region(offset: usize, layer: u32, level: u32, side: u32) -> vk::BufferImageCo
 }
 
 /// A trilinear, repeating sampler reading mips 0..=`max_lod`.
-fn sampler(ctx: &GpuContext, max_lod: f32) -> Result<vk::Sampler, RenderError> {
+pub(super) fn sampler(ctx: &GpuContext, max_lod: f32) -> Result<vk::Sampler, RenderError> {
     let info = vk::SamplerCreateInfo::default()
         .mag_filter(vk::Filter::LINEAR)
         .min_filter(vk::Filter::LINEAR)

@@ -45,6 +45,44 @@ const INCIDENT_METER_C: f32 = 250.0;
 /// luminance of 1.2 · 2^EV100 cd/m² saturates the sensor.
 const SATURATION_FACTOR: f32 = 1.2;
 
+/// Reflected-light meter calibration constant K (cd·s/m², ISO 2720: 12.5 for most makers):
+/// EV100 = log2(L · S / K) renders a scene of mean luminance L as a mid-grey one.
+const REFLECTED_METER_K: f32 = 12.5;
+
+/// What open water sends back toward a viewer looking at the horizon, as shares of the sky
+/// band it mirrors (Fresnel averaged over grazing to 45° views) and of the illuminance
+/// (the body's back-scattered light, luminance-weighted).
+const SEA_SKY_REFLECTANCE: f32 = 0.1;
+const SEA_BODY_REFLECTANCE: f32 = 0.012;
+
+/// How far (stops) the metered exposure may stray from the incident reading: enough to hold a
+/// glaring low sun's sky, never so far as to turn dusk into day or day into dusk.
+const METER_RANGE_EV: (f32, f32) = (-2.0, 2.0);
+
+/// Stops between the metered mean and the saturation-based mapping's mid-grey: with it the
+/// scene's mean luminance lands at 0.21 of the tonemapper's input (about how a camera's JPEG
+/// renders 18 % grey) instead of 0.10, which made a sunny midday sea read dark.
+pub const KEY_EV: f32 = 1.0;
+
+/// Mean luminance (kcd/m²) of what a viewer looking at the horizon sees: half the view is the
+/// sky from the horizon to 40° up (averaged over every azimuth, by solid angle), half is sea.
+pub fn scene_luminance(sky: &Sky) -> f32 {
+    let (mut sum, mut weight) = (0.0f32, 0.0f32);
+    for e in 0..20 {
+        let elevation = 1.0 + 2.0 * e as f32;
+        let w = elevation.to_radians().cos();
+        for a in 0..36 {
+            let d = direction_at(elevation, 10.0 * a as f32);
+            sum += w * preetham::LUMINANCE.dot(sky.radiance(d));
+            weight += w;
+        }
+    }
+    let band = sum / weight;
+    let sea = SEA_SKY_REFLECTANCE * band
+        + SEA_BODY_REFLECTANCE * sky.horizontal_illuminance() / std::f32::consts::PI;
+    0.5 * (band + sea)
+}
+
 /// Darkest EV100 the auto exposure goes to, about a bright sunset. Below it the scene dims
 /// instead of being pushed up to daylight brightness in twilight.
 pub const EV100_MIN: f32 = 6.0;
@@ -113,25 +151,37 @@ fn direction_at(elevation_deg: f32, azimuth_deg: f32) -> Vec3 {
     Vec3::new(ce * ca, se, ce * sa)
 }
 
-/// Suggested EV100 for the scene, from an incident-light reading of the horizontal illuminance
-/// of sun plus sky: EV100 = log2(E[lux] · S / C), S = 100, C = 250, not below [`EV100_MIN`].
-/// Sun 60° high at T = 2.5: E ≈ 110 klux, EV100 ≈ 15.4, the "sunny 16" value.
+/// Suggested EV100 for the scene: a reflected-light reading of its mean luminance
+/// ([`scene_luminance`]), EV100 = log2(L[cd/m²] · S / K), held within [`METER_RANGE_EV`] of an
+/// incident-light reading of the horizontal illuminance of sun plus sky (log2(E[lux] · S / C),
+/// C = 250: sun 60° high at T = 2.5, E ≈ 110 klux, EV100 ≈ 15.4, the "sunny 16" value), not
+/// below [`EV100_MIN`].
 pub fn ev100(sky: &Sky) -> f32 {
-    let e_lux = 1000.0 * sky.horizontal_illuminance();
-    (e_lux.max(f32::MIN_POSITIVE) * ISO / INCIDENT_METER_C)
-        .log2()
+    let incident = incident_ev100(sky);
+    let metered = (1000.0 * scene_luminance(sky) * ISO / REFLECTED_METER_K)
+        .max(f32::MIN_POSITIVE)
+        .log2();
+    metered
+        .clamp(incident + METER_RANGE_EV.0, incident + METER_RANGE_EV.1)
         .max(EV100_MIN)
+}
+
+/// EV100 of an incident-light reading of the horizontal illuminance of sun plus sky.
+pub fn incident_ev100(sky: &Sky) -> f32 {
+    let e_lux = 1000.0 * sky.horizontal_illuminance();
+    (e_lux.max(f32::MIN_POSITIVE) * ISO / INCIDENT_METER_C).log2()
 }
 
 /// Multiplier from this module's kcd/m² to the tonemapper's input, where 1.0 is the luminance
 /// that saturates a camera exposed at [`ev100`] (Frostbite's convention, per cd/m²
 /// 1 / (1.2 · 2^EV100)): exposure = 1000 / (1.2 · 2^EV100) per kcd/m².
 ///
-/// Mid-grey (18 % under the metered light) then lands near 0.12, a white Lambertian surface
-/// under sun plus sky near 0.66 and the 60° zenith sky (8 kcd/m²) near 0.15: inside the linear
-/// part of PBR Neutral (below 0.76), with the sun's glint far above it.
+/// At midday (sun 60°, T 2.5: the reading equals the incident one) mid-grey (18 % under the
+/// light) lands near 0.24 and the 60° zenith sky (8 kcd/m²) near 0.3, in the linear part of
+/// PBR Neutral (below 0.76); white foam under sun plus sky is compressed toward white, the
+/// sun's glint far above it. [`KEY_EV`] opens it up.
 pub fn exposure(sky: &Sky) -> f32 {
-    1000.0 / (SATURATION_FACTOR * ev100(sky).exp2())
+    1000.0 / (SATURATION_FACTOR * (ev100(sky) - KEY_EV).exp2())
 }
 
 #[cfg(test)]
@@ -207,6 +257,29 @@ mod tests {
     }
 
     #[test]
+    fn the_meter_reads_each_gallery_sky() {
+        for (e, t) in [
+            (60.0, 2.5),
+            (35.0, 10.0),
+            (12.0, 2.2),
+            (4.0, 3.0),
+            (1.5, 4.0),
+        ] {
+            let sky = Sky::new(&SunSky {
+                elevation_deg: e,
+                azimuth_deg: 0.0,
+                turbidity: t,
+            });
+            println!(
+                "sun {e:>4}°, T {t:>4}: scene {:.3} kcd/m², incident EV100 {:.2}, metered {:.2}",
+                scene_luminance(&sky),
+                incident_ev100(&sky),
+                ev100(&sky)
+            );
+        }
+    }
+
+    #[test]
     fn exposure_is_sunny_16_at_high_sun_and_brightens_at_dusk() {
         let high = Sky::new(&sun(60.0));
         let (ev, k) = (ev100(&high), exposure(&high));
@@ -214,7 +287,7 @@ mod tests {
         assert!((14.5..16.0).contains(&ev), "{ev}");
         // The 60° zenith sky lands in the tonemapper's linear range.
         let zenith = LUMINANCE.dot(high.radiance(Vec3::Y)) * k;
-        assert!((0.08..0.3).contains(&zenith), "{zenith}");
+        assert!((0.15..0.6).contains(&zenith), "{zenith}");
         let low = Sky::new(&sun(5.0));
         assert!(exposure(&low) > k);
         let night = Sky::new(&sun(-10.0));

@@ -174,6 +174,23 @@ pub struct SlopeVariance {
     pub unresolved: f64,
 }
 
+/// Mean square slope (both directions) of a wind sea measured from the sun's glitter (Cox &
+/// Munk 1954, clean surface): σ² = 0.003 + 5.12·10⁻³·U, U the wind (m/s; theirs at 12.5 m,
+/// here the 10 m wind). Most of it is in the short wind waves, which grow with the wind while
+/// the spectra's saturated tails do not: the renderer's roughness takes the part the cascades
+/// do not show from it ([`unresolved_slope_variance`]), so the glitter widens with the wind.
+pub fn cox_munk_slope_variance(wind: f32) -> f64 {
+    0.003 + 5.12e-3 * wind as f64
+}
+
+/// Slope variance for the renderer's roughness that no cascade shows: the spectrum's own tail
+/// beyond the finest grid, or, where more, what the cascades' `resolved` slopes leave of the
+/// observed total ([`cox_munk_slope_variance`]).
+pub fn unresolved_slope_variance(wind: f32, slopes: impl Iterator<Item = SlopeVariance>) -> f64 {
+    let (resolved, tail) = slopes.fold((0.0, 0.0), |(r, t), s| (r + s.resolved, t + s.unresolved));
+    tail.max(cox_munk_slope_variance(wind) - resolved)
+}
+
 /// Wave number (rad/m) of the gravity-capillary minimum of the phase speed (λ ≈ 1.7 cm):
 /// shorter waves are capillary ripples whose slopes the wind spectra do not describe.
 pub const CAPILLARY_K: f64 = 370.0;
@@ -337,6 +354,36 @@ mod tests {
             let fine_fund = std::f64::consts::TAU / cfg.patch_sizes[i + 1] as f64;
             assert!(w[0].hi < coarse_nyq && w[0].hi > fine_fund);
         }
+    }
+
+    #[test]
+    fn the_roughness_makes_up_the_observed_slopes_and_grows_with_the_wind() {
+        let mut unresolved = Vec::new();
+        for wind in [5.0f32, 10.0, 15.0, 20.0] {
+            let mut cfg = OceanConfig::default_cascades(256).unwrap();
+            cfg.waves.wind_speed = wind;
+            cfg.fit_patches();
+            let model = SpectrumModel::new(&cfg.waves);
+            let slopes: Vec<SlopeVariance> = (0..cfg.patch_sizes.len())
+                .map(|i| slope_variance(&model, &spec(&cfg, i)))
+                .collect();
+            let u = unresolved_slope_variance(wind, slopes.iter().copied());
+            let resolved: f64 = slopes.iter().map(|s| s.resolved).sum();
+            let tail: f64 = slopes.iter().map(|s| s.unresolved).sum();
+            // Never less than the spectrum's own tail; with it, the observed total.
+            assert!(u >= tail, "{wind} m/s: {u} < tail {tail}");
+            let total = resolved + u;
+            assert!(
+                total >= cox_munk_slope_variance(wind) - 1e-12,
+                "{wind} m/s: {total} below Cox-Munk {}",
+                cox_munk_slope_variance(wind)
+            );
+            unresolved.push(u);
+        }
+        assert!(
+            unresolved.windows(2).all(|w| w[1] > w[0]),
+            "roughness does not grow with the wind: {unresolved:?}"
+        );
     }
 
     #[test]

@@ -191,13 +191,18 @@ impl DesktopSwapchain {
     }
 }
 
-/// The headless backend: renders `frames` frames along a path on the fixed 72 Hz clock.
+/// Spacing (s) of the frames a headless run settles the sea with ([`HeadlessXr::settle`]).
+pub const SETTLE_DT: f64 = 0.1;
+
+/// The headless backend: renders `frames` frames along a path on the fixed 72 Hz clock, after
+/// optional settling frames that step the sea without drawing.
 pub struct HeadlessXr {
     // Declared before `ctx`, destroyed explicitly in `Drop` while the device lives.
     swapchain: DesktopSwapchain,
     ctx: GpuContext,
     path: CameraPath,
     frames: u64,
+    settle: u64,
     frame: u64,
     acquired: Option<u32>,
 }
@@ -217,9 +222,25 @@ impl HeadlessXr {
             ctx,
             path,
             frames,
+            settle: 0,
             frame: 0,
             acquired: None,
         })
+    }
+
+    /// Lets the sea run for `frames` × [`SETTLE_DT`] seconds before the first drawn frame:
+    /// those frames (numbered 0..`frames`, the drawn ones after them) step the simulation and
+    /// the floating bodies but draw nothing, so foam and bodies start in their steady state
+    /// at the cost of a few CPU steps, not minutes of rendering. The camera path's clock
+    /// starts at the first drawn frame.
+    pub fn settle(mut self, frames: u64) -> Self {
+        self.settle = frames;
+        self
+    }
+
+    /// Settling frames before the drawn ones.
+    pub fn settle_frames(&self) -> u64 {
+        self.settle
     }
 
     /// The swapchain (read-back of the last image).
@@ -243,17 +264,24 @@ impl FrameLoop for HeadlessXr {
     }
 
     fn begin_frame(&mut self) -> Result<Option<FrameState>, XrError> {
-        if self.frame >= self.frames {
+        if self.frame >= self.settle + self.frames {
             return Ok(None);
         }
-        let t = self.frame as f64 * PERIOD;
-        let (position, orientation) = self.path.pose(t);
+        let settling = self.frame < self.settle;
+        let settled = self.settle as f64 * SETTLE_DT;
+        let (path_time, time, period) = if settling {
+            (0.0, self.frame as f64 * SETTLE_DT, SETTLE_DT)
+        } else {
+            let t = (self.frame - self.settle) as f64 * PERIOD;
+            (t, settled + t, PERIOD)
+        };
+        let (position, orientation) = self.path.pose(path_time);
         let state = FrameState {
             index: self.frame,
-            predicted_display_time: t,
-            period: PERIOD,
+            predicted_display_time: time,
+            period,
             views: eye_views(position, orientation),
-            should_render: true,
+            should_render: !settling,
             tweaks: [None; MAX_TWEAKS],
             hands: [None; 2],
         };

@@ -1,0 +1,80 @@
+//! One-time uploads of textures made on the CPU at set-up (the sky's environment map, the foam
+//! pattern): every level through a temporary staging buffer, then ready for sampling. Waits for
+//! the copy, so never in the steady state.
+
+use ash::vk;
+
+use crate::render::barrier::{self, Access, ImageBarrier};
+use crate::render::context::GpuContext;
+use crate::render::error::RenderError;
+use crate::render::memory::{Buffer, Image};
+
+/// One mip level's texels, tightly packed in the image's format.
+pub(super) struct Level<'a> {
+    /// The texels, row after row.
+    pub bytes: &'a [u8],
+    /// Its size in texels.
+    pub width: u32,
+    /// Its height in texels.
+    pub height: u32,
+}
+
+/// Copies `levels` (mip 0 first, layer 0) into `image` and leaves it in
+/// SHADER_READ_ONLY_OPTIMAL. The staging buffer is freed whatever happens.
+pub(super) fn upload_levels(
+    ctx: &GpuContext,
+    image: &Image,
+    levels: &[Level<'_>],
+) -> Result<(), RenderError> {
+    let total: usize = levels.iter().map(|l| l.bytes.len()).sum();
+    let mut staging = Buffer::new(ctx, total as u64, vk::BufferUsageFlags::TRANSFER_SRC, true)?;
+    let mut regions = Vec::with_capacity(levels.len());
+    let bytes = staging.bytes_mut();
+    let mut offset = 0usize;
+    for (m, level) in levels.iter().enumerate() {
+        bytes[offset..offset + level.bytes.len()].copy_from_slice(level.bytes);
+        regions.push(vk::BufferImageCopy {
+            buffer_offset: offset as u64,
+            buffer_row_length: 0,
+            buffer_image_height: 0,
+            image_subresource: vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                mip_level: m as u32,
+                base_array_layer: 0,
+                layer_count: 1,
+            },
+            image_offset: vk::Offset3D::default(),
+            image_extent: vk::Extent3D {
+                width: level.width,
+                height: level.height,
+                depth: 1,
+            },
+        });
+        offset += level.bytes.len();
+    }
+    let mips = levels.len() as u32;
+    let result = crate::render::one_shot(ctx, |cmd| {
+        let d = &ctx.device;
+        let to_copy = ImageBarrier::colour(image.raw, 1, Access::Nothing, Access::TransferWrite)
+            .mips(mips)
+            .discard();
+        barrier::record(d, cmd, [to_copy], None);
+        // SAFETY: `cmd` is recording; the image is in TRANSFER_DST_OPTIMAL after the barrier
+        // and every region lies inside the staging buffer and its level.
+        unsafe {
+            d.cmd_copy_buffer_to_image(
+                cmd,
+                staging.raw,
+                image.raw,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &regions,
+            )
+        };
+        let to_read =
+            ImageBarrier::colour(image.raw, 1, Access::TransferWrite, Access::ShaderSampled)
+                .mips(mips);
+        barrier::record(d, cmd, [to_read], None);
+    });
+    staging.destroy(ctx);
+    result
+}

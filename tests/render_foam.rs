@@ -1,0 +1,149 @@
+//! Foam on lavapipe, validation layer required (issue 14, item 4): the area the renderer draws
+//! white is the whitecap coverage the simulation computed under it, and follows the wind.
+//!
+//! Looking straight down from 10 m, pixels map evenly onto the sea (~10 cm each), so the share
+//! of pixels whitened must match the mean coverage of the sea they show, read from the same
+//! simulation replayed step by step on the CPU.
+
+mod common;
+
+use common::gpu::{self, Frame};
+use glam::Vec3;
+use vr_ocean::render::camera::project_to_pixel;
+use vr_ocean::render::StereoMode;
+use vr_ocean::sim::{OceanConfig, SimCore, Surfaces};
+use vr_ocean::xr::desktop::{PERIOD, SETTLE_DT};
+
+/// Settling frames, `SETTLE_DT` apart, before the drawn ones: 12 s of simulated time (foam
+/// settles in ~5 s: decay 0.6/s).
+const SKIP: u64 = 120;
+/// Drawn frames; the last is captured.
+const FRAMES: u64 = 2;
+/// Eye height (m) and image side (px).
+const HEIGHT: f32 = 10.0;
+const SIZE: u32 = 192;
+
+/// The default sea at `wind`, each cascade's own foam (eq. 51) off so that only whitecaps
+/// whiten the water.
+fn sea(wind: f32) -> OceanConfig {
+    let mut cfg = OceanConfig::default_cascades(256).unwrap();
+    cfg.waves.wind_speed = wind;
+    cfg.waves.foam.growth = 0.0;
+    cfg.fit_patches();
+    cfg
+}
+
+/// The surfaces the app showed on the captured frame, replayed on the CPU: `app::run` steps
+/// first at the first frame's time, then each frame starts the step for its time plus its
+/// period, shown on the next frame.
+fn shown_surfaces(cfg: &OceanConfig) -> Surfaces {
+    let frame_end = |i: u64| {
+        if i < SKIP {
+            (i + 1) as f64 * SETTLE_DT
+        } else {
+            SKIP as f64 * SETTLE_DT + (i - SKIP + 1) as f64 * PERIOD
+        }
+    };
+    let mut core = SimCore::new(cfg.clone()).unwrap();
+    core.set_focus(0.0, 0.0);
+    let mut out = Surfaces::new(cfg);
+    core.step(0.0, &mut out);
+    for i in 0..SKIP + FRAMES - 1 {
+        core.step(frame_end(i), &mut out);
+    }
+    out
+}
+
+/// Mean coverage of the sea both eyes of `frame` show (rest positions on a 5 cm lattice,
+/// kept where they project inside the image: straight down, evenly per pixel).
+fn coverage_seen(frame: &Frame, surfaces: &Surfaces) -> f64 {
+    let (mut sum, mut n) = (0.0f64, 0usize);
+    for eye in 0..2 {
+        let view = &frame.state.views[eye];
+        for j in -400..=400 {
+            for i in -400..=400 {
+                let p = Vec3::new(i as f32 * 0.05, 0.0, j as f32 * 0.05);
+                let Some((x, y)) = project_to_pixel(view, p, frame.width, frame.height) else {
+                    continue;
+                };
+                if (0.0..frame.width as f32).contains(&x) && (0.0..frame.height as f32).contains(&y)
+                {
+                    sum += surfaces.whitecaps.coverage_at(p.x, p.z).unwrap() as f64;
+                    n += 1;
+                }
+            }
+        }
+    }
+    sum / n as f64
+}
+
+/// Share of pixels (both eyes) drawn white: at least 200 codes brighter (sum of RGB) with
+/// whitecaps than without, a third of what a fully foamed pixel gains here (~600), well above
+/// what the bubbles below the foam add (~100).
+fn whitened_share(with: &Frame, without: &Frame) -> f64 {
+    let (mut n, mut whiter) = (0usize, 0usize);
+    for eye in 0..2 {
+        for y in 0..with.height {
+            for x in 0..with.width {
+                let sum = |f: &Frame| {
+                    f.pixel(eye, x, y)[..3]
+                        .iter()
+                        .map(|&c| c as i32)
+                        .sum::<i32>()
+                };
+                n += 1;
+                if sum(with) >= sum(without) + 200 {
+                    whiter += 1;
+                }
+            }
+        }
+    }
+    whiter as f64 / n as f64
+}
+
+#[test]
+fn the_white_area_is_the_simulated_coverage() {
+    let path = gpu::standing(HEIGHT, 0.0, -89.0);
+    let mut rows = Vec::new();
+    for wind in [8.0f32, 18.0] {
+        let mut shots = Vec::new();
+        for whitecaps in [true, false] {
+            let mut opts = gpu::small_options(StereoMode::TwoPass, vec![SKIP + FRAMES - 1]);
+            opts.ocean = sea(wind);
+            opts.renderer.whitecaps = whitecaps;
+            let (_, mut f) = gpu::render_after(&opts, path.clone(), SKIP, FRAMES, SIZE, SIZE);
+            let f = f.remove(0);
+            if std::env::var_os("VR_OCEAN_SAVE_FRAMES").is_some() {
+                eprintln!(
+                    "saved {}",
+                    f.save(&format!("foam-{wind}-{whitecaps}")).display()
+                );
+            }
+            shots.push(f);
+        }
+        let drawn = whitened_share(&shots[0], &shots[1]);
+        let simulated = coverage_seen(&shots[0], &shown_surfaces(&sea(wind)));
+        println!(
+            "{wind} m/s: {:.2} % of the pixels drawn white, {:.2} % simulated coverage under them",
+            100.0 * drawn,
+            100.0 * simulated
+        );
+        rows.push((wind, drawn, simulated));
+    }
+    let (_, calm_drawn, calm_simulated) = rows[0];
+    let (_, gale_drawn, gale_simulated) = rows[1];
+    // A gale's white area is its coverage (the pattern whitens a share c of coverage c).
+    assert!(
+        gale_simulated > 0.01,
+        "the replayed gale barely foams: {rows:?}"
+    );
+    assert!(
+        (0.67..=1.5).contains(&(gale_drawn / gale_simulated)),
+        "drawn white area vs coverage: {rows:?}"
+    );
+    // A breeze stays nearly clear, as its coverage says.
+    assert!(
+        calm_drawn <= calm_simulated + 0.005,
+        "a breeze drawn whiter than its coverage: {rows:?}"
+    );
+}
