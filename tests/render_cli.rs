@@ -1,11 +1,12 @@
 //! Bad input to the headless renderer: a clear error and a non-zero exit, never a panic, and
-//! nothing rendered when the output cannot be written.
+//! nothing rendered when the output cannot be written; settling frames numbered apart from the
+//! drawn ones.
 
 mod common;
 
 use std::process::Command;
 
-use common::{assert_rejected, scratch_path};
+use common::{assert_rejected, scratch_path, vr_ocean};
 
 #[test]
 fn missing_vulkan_driver_names_the_package_to_install() {
@@ -34,6 +35,12 @@ fn bad_sizes_frames_and_captures_are_rejected() {
         assert_rejected(&["headless", "--size", size, "--out", out], &["size"]);
     }
     assert_rejected(&["headless", "--frames", "0", "--out", out], &["frames"]);
+    assert_rejected(
+        &["headless", "--settle=-1", "--out", out],
+        &["settle", "[0, 600]"],
+    );
+    assert_rejected(&["headless", "--settle", "nan", "--out", out], &["settle"]);
+    assert_rejected(&["headless", "--settle", "601", "--out", out], &["settle"]);
     assert_rejected(
         &["headless", "--frames", "5", "--capture", "5", "--out", out],
         &["capture"],
@@ -80,4 +87,23 @@ fn malformed_camera_paths_name_the_file_and_line() {
         &["/nonexistent/vr-ocean.path"],
     );
     let _ = std::fs::remove_file(path);
+}
+
+#[test]
+fn settling_frames_are_simulated_but_not_counted_or_saved() {
+    let dir = scratch_path("settle");
+    let out = dir.to_str().unwrap();
+    let run = vr_ocean(&[
+        "headless", "--settle", "2", "--frames", "2", "--size", "32x32", "--bodies", "0", "--out",
+        out,
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    // 20 settling frames, then the two drawn ones, numbered 0 and 1; the last is saved.
+    assert!(dir.join("frame_00001_left.png").exists());
+    assert!(!dir.join("frame_00021_left.png").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
 }

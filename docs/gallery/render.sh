@@ -1,21 +1,22 @@
 #!/usr/bin/env bash
 # The README's gallery: five sea states and times of day, rendered headless at 1024x1024 per
 # eye (the left eye is kept, as JPEG), each from its camera path here, with the device's default
-# MSAA (4 on a GPU, 1 on lavapipe, where specular AA still keeps the far sea calm). On two cores
-# of lavapipe it takes about ten minutes. Two passes, not multiview: Mesa 22.3's lavapipe writes
-# the second view's clipped triangles (the deck under the viewer) into the first view's layer.
+# MSAA (4 on a GPU, 1 on lavapipe, where specular AA still keeps the far sea calm), after 12 s
+# of simulated time (--settle: the whitecaps settled). On two cores of lavapipe it takes about
+# two minutes. Two passes, not multiview: Mesa 22.3's lavapipe writes the second view's clipped
+# triangles (the deck under the viewer) into the first view's layer.
 # Usage, from anywhere: docs/gallery/render.sh
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 cargo build --release --quiet --bin vr-ocean
 bin="${CARGO_TARGET_DIR:-target}/release/vr-ocean"
-frames=96
+frames=4
 render() {
     local name=$1
     shift
     local out
     out=$(mktemp -d)
-    "$bin" headless --size 1024x1024 --frames "$frames" --bodies 0 --format jpeg \
+    "$bin" headless --size 1024x1024 --settle 12 --frames "$frames" --bodies 0 --format jpeg \
         --stereo two-pass \
         --path "docs/gallery/$name.path" --out "$out" "$@" >/dev/null
     cp "$out/frame_$(printf %05d $((frames - 1)))_left.jpg" "docs/gallery/$name.jpg"
