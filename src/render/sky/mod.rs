@@ -258,7 +258,8 @@ mod tests {
     }
 
     #[test]
-    fn the_meter_reads_each_gallery_sky() {
+    fn the_meter_follows_the_incident_reading_at_midday_and_holds_a_low_suns_sky() {
+        let mut readings = Vec::new();
         for (e, t) in [
             (60.0, 2.5),
             (35.0, 10.0),
@@ -271,13 +272,27 @@ mod tests {
                 azimuth_deg: 0.0,
                 turbidity: t,
             });
+            let (incident, metered) = (incident_ev100(&sky), ev100(&sky));
             println!(
-                "sun {e:>4}°, T {t:>4}: scene {:.3} kcd/m², incident EV100 {:.2}, metered {:.2}",
-                scene_luminance(&sky),
-                incident_ev100(&sky),
-                ev100(&sky)
+                "sun {e:>4}°, T {t:>4}: scene {:.3} kcd/m², incident EV100 {incident:.2}, \
+                 metered {metered:.2}",
+                scene_luminance(&sky)
             );
+            let (lo, hi) = (incident + METER_RANGE_EV.0, incident + METER_RANGE_EV.1);
+            assert!(
+                (lo..=hi).contains(&metered),
+                "sun {e}°: {metered} outside [{lo}, {hi}]"
+            );
+            readings.push(metered - incident);
         }
+        // A high sun over a clear sky: the scene's mean reads as the incident light does.
+        assert!(readings[0].abs() < 0.3, "midday: {readings:?}");
+        // A low sun: the bright sky band dominates the view, so the meter stops down (a
+        // darker image than the incident reading's, which washed the sky out).
+        assert!(
+            readings[2..].iter().all(|&d| d > 0.5),
+            "low suns: {readings:?}"
+        );
     }
 
     #[test]

@@ -238,11 +238,6 @@ impl HeadlessXr {
         self
     }
 
-    /// Settling frames before the drawn ones.
-    pub fn settle_frames(&self) -> u64 {
-        self.settle
-    }
-
     /// The swapchain (read-back of the last image).
     pub fn swapchain(&self) -> &DesktopSwapchain {
         &self.swapchain
