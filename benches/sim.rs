@@ -7,7 +7,7 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use vr_ocean::sim::evolve::{self, LoopPhase};
 use vr_ocean::sim::fft::Fft2d;
 use vr_ocean::sim::spectrum::{cascade_bands, CascadeSpec, PackedSpectrum};
-use vr_ocean::sim::surface::{self, CascadeSurface, FloatCopies, SurfaceParams};
+use vr_ocean::sim::surface::{self, CascadeSurface, FloatCopies, SurfaceParams, Transformed};
 use vr_ocean::sim::{AlignedBuf, OceanConfig, SimCore, SplitField, Surfaces};
 
 fn stages(c: &mut Criterion) {
@@ -54,7 +54,15 @@ fn stages(c: &mut Criterion) {
             });
             g.bench_function(id("stage5_6_surface"), |b| {
                 b.iter(|| {
-                    pool.install(|| surface::finalize(&fields, &mut foam, params, 3.0, &mut out))
+                    pool.install(|| {
+                        surface::finalize(
+                            Transformed::Spectral(&fields),
+                            &mut foam,
+                            params,
+                            3.0,
+                            &mut out,
+                        )
+                    })
                 })
             });
             let mut core = pool.install(|| SimCore::new(cfg.clone()).unwrap());

@@ -11,7 +11,7 @@ use vr_ocean::physics::{BodyId, BodySpec, Floaters, PhysicsConfig, Pose, PHYSICS
 use vr_ocean::sim::evolve::{self, LoopPhase};
 use vr_ocean::sim::fft::Fft2d;
 use vr_ocean::sim::spectrum::{self, PackedSpectrum};
-use vr_ocean::sim::surface::{self, SurfaceParams};
+use vr_ocean::sim::surface::{self, SurfaceParams, Transformed};
 use vr_ocean::sim::{
     dispersion, AlignedBuf, FoamParams, GridSize, OceanConfig, SimCore, SplitField, Surfaces,
 };
@@ -95,7 +95,7 @@ impl Swell {
             dt: PHYSICS_DT,
         };
         surface::finalize(
-            &self.fields,
+            Transformed::Spectral(&self.fields),
             &mut self.foam,
             p,
             t,

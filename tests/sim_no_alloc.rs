@@ -5,7 +5,7 @@ mod common;
 
 use std::sync::Mutex;
 
-use vr_ocean::sim::{OceanConfig, Simulation};
+use vr_ocean::sim::{Derivatives, OceanConfig, Simulation};
 
 #[global_allocator]
 static GLOBAL: common::Counting = common::Counting;
@@ -15,8 +15,16 @@ static SERIAL: Mutex<()> = Mutex::new(());
 
 fn steady_state_steps_do_not_allocate() {
     let _turn = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
-    for threads in [1, 2] {
-        let cfg = OceanConfig::default_cascades(64).unwrap();
+    for (threads, derivatives) in [
+        (1, Derivatives::Spectral),
+        (2, Derivatives::Spectral),
+        (1, Derivatives::Finite),
+        (2, Derivatives::Finite),
+    ] {
+        let cfg = OceanConfig {
+            derivatives,
+            ..OceanConfig::default_cascades(64).unwrap()
+        };
         let mut sim = Simulation::new(cfg, threads).unwrap();
         let mut t = 0.0;
         // Warm-up: first steps may size lazily created thread-local state.
@@ -38,7 +46,8 @@ fn steady_state_steps_do_not_allocate() {
         assert!(checksum.is_finite());
         assert_eq!(
             n, 0,
-            "{n} heap allocations in 200 steady-state steps on {threads} thread(s)"
+            "{n} heap allocations in 200 steady-state steps on {threads} thread(s), \
+             {derivatives} derivatives"
         );
     }
 }

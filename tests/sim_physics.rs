@@ -3,7 +3,7 @@
 use vr_ocean::sim::evolve::{self, LoopPhase};
 use vr_ocean::sim::fft::Fft2d;
 use vr_ocean::sim::spectrum::{self, cascade_bands, CascadeSpec, PackedSpectrum};
-use vr_ocean::sim::surface::{self, CascadeSurface, FloatCopies, SurfaceParams};
+use vr_ocean::sim::surface::{self, CascadeSurface, FloatCopies, SurfaceParams, Transformed};
 use vr_ocean::sim::{
     dispersion, AlignedBuf, FoamParams, GridSize, OceanConfig, SimCore, SpectrumKind, SplitField,
     Surfaces,
@@ -129,7 +129,7 @@ fn surface_of(
         foam: FoamParams::default(),
         dt: 0.0,
     };
-    surface::finalize(&fields, &mut foam, p, t, &mut out);
+    surface::finalize(Transformed::Spectral(&fields), &mut foam, p, t, &mut out);
     out
 }
 

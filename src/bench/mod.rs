@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use crate::sim::fft::{force_backend, forced_backend, Backend, Fft2d, UnavailableBackend};
 use crate::sim::grid::{GridSize, SplitField};
-use crate::sim::params::OceanConfig;
+use crate::sim::params::{Derivatives, OceanConfig};
 use crate::sim::simd::{cap_tier, tier_cap};
 use crate::sim::step::{SimCore, SimError, Surfaces};
 
@@ -25,6 +25,8 @@ pub struct BenchOptions {
     /// element-wise kernels at its [`Backend::element_tier`]. Empty: every tier this CPU has,
     /// fastest first ([`all_tiers`]).
     pub tiers: Vec<Backend>,
+    /// Derivative modes to run each tier and thread count with (empty: the config's).
+    pub derivatives: Vec<Derivatives>,
     /// Timed repetitions per measurement (after warm-up).
     pub iterations: usize,
     /// Wave parameters and cascades (the grid is replaced by each size).
@@ -68,6 +70,8 @@ pub struct BenchRow {
     pub fftw4_ms: Option<f64>,
     /// The FFT backend that ran (the SIMD tier of the row).
     pub backend: String,
+    /// How the step took its derivatives (spectral: 4 FFTs per cascade, finite: 2).
+    pub derivatives: Option<Derivatives>,
 }
 
 fn median_ms(samples: &mut [Duration]) -> f64 {
@@ -198,6 +202,11 @@ pub fn run(opts: &BenchOptions) -> Result<Vec<BenchRow>, BenchError> {
         }
         .into());
     }
+    let modes = if opts.derivatives.is_empty() {
+        vec![opts.config.derivatives]
+    } else {
+        opts.derivatives.clone()
+    };
     let mut rows = Vec::new();
     for &grid in &opts.sizes {
         let mut cfg = opts.config.clone();
@@ -206,6 +215,7 @@ pub fn run(opts: &BenchOptions) -> Result<Vec<BenchRow>, BenchError> {
             &cfg,
             &opts.threads,
             &tiers,
+            &modes,
             opts.iterations,
             opts.baselines,
         )?);
@@ -217,6 +227,7 @@ fn measure(
     cfg: &OceanConfig,
     threads: &[usize],
     tiers: &[Backend],
+    modes: &[Derivatives],
     iterations: usize,
     baselines: bool,
 ) -> Result<Vec<BenchRow>, SimError> {
@@ -234,37 +245,50 @@ fn measure(
     // Stage 1 does not depend on the tier: measured once per thread count.
     let mut spectrum_ms = vec![None; threads.len()];
     let mut contenders: Vec<Contender<'_>> = Vec::new();
+    // Per row: its step contender; per (tier, thread count): the FFT-only contender.
+    let mut row_step = Vec::new();
+    let mut row_fft = Vec::new();
     for (&tier, fft) in tiers.iter().zip(&ffts) {
         for (i, (&t, pool_t)) in threads.iter().zip(&pools).enumerate() {
-            let mut core = at_tier(tier, || pool_t.install(|| SimCore::new(cfg.clone())))?;
-            debug_assert_eq!(core.fft().backend(), tier);
-            let spectrum_ms = *spectrum_ms[i].get_or_insert_with(|| {
-                let mut d: Vec<Duration> = (0..3)
-                    .map(|_| pool_t.install(|| core.regenerate_spectrum()))
-                    .collect();
-                median_ms(&mut d)
-            });
-            rows.push(BenchRow {
-                n,
-                threads: t,
-                spectrum_ms,
-                backend: tier.to_string(),
-                ..BenchRow::default()
-            });
-            let mut out = Surfaces::new(cfg);
-            let mut time = 0.0;
-            contenders.push(Box::new(move || {
-                time += 1.0 / 72.0;
-                at_tier(tier, || pool_t.install(|| core.step(time, &mut out)));
-                let s = core.timings();
-                [
-                    s.evolve,
-                    s.fft,
-                    s.surface,
-                    s.evolve + s.fft + s.surface,
-                    s.total(),
-                ]
-            }));
+            for (m, &mode) in modes.iter().enumerate() {
+                let cfg = OceanConfig {
+                    derivatives: mode,
+                    ..cfg.clone()
+                };
+                let mut core = at_tier(tier, || pool_t.install(|| SimCore::new(cfg.clone())))?;
+                debug_assert_eq!(core.fft().backend(), tier);
+                let spectrum_ms = *spectrum_ms[i].get_or_insert_with(|| {
+                    let mut d: Vec<Duration> = (0..3)
+                        .map(|_| pool_t.install(|| core.regenerate_spectrum()))
+                        .collect();
+                    median_ms(&mut d)
+                });
+                rows.push(BenchRow {
+                    n,
+                    threads: t,
+                    spectrum_ms,
+                    backend: tier.to_string(),
+                    derivatives: Some(mode),
+                    ..BenchRow::default()
+                });
+                // The modes' step contenders, then the FFT-only one.
+                row_step.push(contenders.len());
+                row_fft.push(contenders.len() + modes.len() - m);
+                let mut out = Surfaces::new(&cfg);
+                let mut time = 0.0;
+                contenders.push(Box::new(move || {
+                    time += 1.0 / 72.0;
+                    at_tier(tier, || pool_t.install(|| core.step(time, &mut out)));
+                    let s = core.timings();
+                    [
+                        s.evolve,
+                        s.fft,
+                        s.surface,
+                        s.evolve + s.fft + s.surface,
+                        s.total(),
+                    ]
+                }));
+            }
             let mut fields: Vec<SplitField> = (0..4).map(|_| input.clone()).collect();
             // As in the pipeline: one scratch field, the fields transformed one after another.
             let mut scratch = [SplitField::zeros(cfg.grid)];
@@ -307,11 +331,11 @@ fn measure(
         }
     }
     let medians = interleaved(&mut contenders, iterations);
-    for (i, row) in rows.iter_mut().enumerate() {
-        let [ev, ff, su, st, total] = medians[2 * i];
+    for ((row, &step), &fft) in rows.iter_mut().zip(&row_step).zip(&row_fft) {
+        let [ev, ff, su, st, total] = medians[step];
         (row.evolve_ms, row.fft_ms, row.surface_ms) = (ev, ff, su);
         (row.step_ms, row.total_ms) = (st, total);
-        row.ours_fft4_ms = medians[2 * i + 1][FFT_PART];
+        row.ours_fft4_ms = medians[fft][FFT_PART];
     }
     let mut baseline_ms = medians[ours..].iter().map(|m| m[FFT_PART]);
     #[cfg(feature = "baselines")]
@@ -375,7 +399,7 @@ fn test_field(grid: GridSize) -> SplitField {
 pub fn format_table(rows: &[BenchRow]) -> String {
     let mut s = String::new();
     s.push_str(
-        "   N thr backend  | stage1   evolve      fft  surface     step    total | ours4  rustfft4    fftw4 | fft4/fftw step/fftw4\n",
+        "   N thr backend  deriv    | stage1   evolve      fft  surface     step    total | ours4  rustfft4    fftw4 | fft4/fftw step/fftw4\n",
     );
     let opt = |v: Option<f64>| v.map_or("       -".to_string(), |v| format!("{v:8.3}"));
     for r in rows {
@@ -384,10 +408,11 @@ pub fn format_table(rows: &[BenchRow]) -> String {
                 .map_or("     -".to_string(), |f| format!("{:6.2}", a / f))
         };
         s.push_str(&format!(
-            "{:4} {:3} {:8} | {:6.2} {:8.3} {:8.3} {:8.3} {:8.3} {:8.3} | {:6.3} {} {} | {}    {}\n",
+            "{:4} {:3} {:8} {:8} | {:6.2} {:8.3} {:8.3} {:8.3} {:8.3} {:8.3} | {:6.3} {} {} | {}    {}\n",
             r.n,
             r.threads,
             r.backend,
+            r.derivatives.map_or("-".to_string(), |d| d.to_string()),
             r.spectrum_ms,
             r.evolve_ms,
             r.fft_ms,
@@ -403,14 +428,15 @@ pub fn format_table(rows: &[BenchRow]) -> String {
     }
     // Thread scaling: step time at 1 thread over step time at each other count, per tier.
     for r in rows.iter().filter(|r| r.threads > 1) {
-        let one = rows
-            .iter()
-            .find(|o| o.n == r.n && o.backend == r.backend && o.threads == 1);
+        let one = rows.iter().find(|o| {
+            o.n == r.n && o.backend == r.backend && o.derivatives == r.derivatives && o.threads == 1
+        });
         if let Some(one) = one {
             s.push_str(&format!(
-                "N={} {} speed-up {} threads vs 1: step {:.2}x, fft {:.2}x\n",
+                "N={} {} {} speed-up {} threads vs 1: step {:.2}x, fft {:.2}x\n",
                 r.n,
                 r.backend,
+                r.derivatives.map_or("-".to_string(), |d| d.to_string()),
                 r.threads,
                 one.step_ms / r.step_ms,
                 one.ours_fft4_ms / r.ours_fft4_ms

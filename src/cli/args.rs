@@ -13,8 +13,8 @@ use vr_ocean::render::{
     ContextOptions, GpuContext, Msaa, RendererSettings, StereoMode, Validation,
 };
 use vr_ocean::sim::{
-    FoamParams, GridSize, OceanConfig, PatchFit, SpectrumKind, WaveParams, DEFAULT_FETCH_KM,
-    DEFAULT_GAMMA, DEFAULT_PATCH_SIZES,
+    Derivatives, FoamParams, GridSize, OceanConfig, PatchFit, SpectrumKind, WaveParams,
+    DEFAULT_DERIVATIVES, DEFAULT_FETCH_KM, DEFAULT_GAMMA, DEFAULT_PATCH_SIZES,
 };
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -31,12 +31,44 @@ pub enum SpectrumArg {
     Jonswap,
 }
 
+/// How the surface's slopes and Jacobian are taken (`vr_ocean::sim::Derivatives`).
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum DerivativesArg {
+    /// In the spectrum: exact, four FFTs per cascade.
+    Spectral,
+    /// Central differences of the displacement: two FFTs per cascade.
+    Finite,
+}
+
+impl DerivativesArg {
+    /// The CLI default: the simulation's ([`DEFAULT_DERIVATIVES`]).
+    fn default_arg() -> DerivativesArg {
+        match DEFAULT_DERIVATIVES {
+            Derivatives::Spectral => DerivativesArg::Spectral,
+            Derivatives::Finite => DerivativesArg::Finite,
+        }
+    }
+}
+
+impl From<DerivativesArg> for Derivatives {
+    fn from(d: DerivativesArg) -> Derivatives {
+        match d {
+            DerivativesArg::Spectral => Derivatives::Spectral,
+            DerivativesArg::Finite => Derivatives::Finite,
+        }
+    }
+}
+
 /// Ocean parameters shared by every command.
 #[derive(Args, Clone)]
 pub struct OceanArgs {
     /// FFT grid side: a power of two from 16 to 1024.
     #[arg(long, allow_negative_numbers = true, default_value_t = 256)]
     pub grid: u32,
+    /// Slopes and Jacobian from spectral derivatives (4 FFTs per cascade) or central
+    /// differences of the displacement (2 FFTs; slightly flatter finest waves).
+    #[arg(long, value_enum, default_value_t = DerivativesArg::default_arg())]
+    pub derivatives: DerivativesArg,
     /// Patch size of each cascade in metres, coarsest first (1 to 4, comma-separated). Default:
     /// 257,69.5,16.1 with the coarsest growing to 2.5 peak wavelengths in strong wind.
     #[arg(long, allow_negative_numbers = true, value_delimiter = ',')]
@@ -117,6 +149,7 @@ impl OceanArgs {
             patch_sizes,
             patch_fit,
             whitecaps: true,
+            derivatives: self.derivatives.into(),
             waves: WaveParams {
                 spectrum,
                 wind_speed: self.wind,

@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use clap::Args;
 
-use super::args::{default_threads, preset, OceanArgs, PresetArg};
+use super::args::{default_threads, preset, DerivativesArg, OceanArgs, PresetArg};
 use super::CmdResult;
 use vr_ocean::base::ParamError;
 use vr_ocean::bench::{self, BenchOptions};
@@ -98,6 +98,10 @@ pub struct BenchArgs {
     /// nearest the headset's NEON.
     #[arg(long, alias = "tier", value_delimiter = ',', default_value = "all")]
     pub tiers: Vec<String>,
+    /// Derivative modes to measure, comma-separated: spectral (4 FFTs per cascade), finite
+    /// (central differences, 2 FFTs).
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [DerivativesArg::Spectral, DerivativesArg::Finite])]
+    pub derivatives: Vec<DerivativesArg>,
 }
 
 pub fn simulate(a: SimulateArgs) -> CmdResult {
@@ -213,6 +217,7 @@ pub fn bench_cmd(a: BenchArgs) -> CmdResult {
         sizes,
         threads: a.threads,
         tiers,
+        derivatives: a.derivatives.iter().map(|&d| d.into()).collect(),
         iterations: a.iterations,
         config,
         baselines: !a.skip_baselines,

@@ -11,7 +11,9 @@
 //! | 3     | ∂Z/∂z ← −k_z·u_z·h̃   | ∂X/∂z ← −k_z·uₓ·h̃          |
 //!
 //! Each field's spectrum is Hermitian, so packing A + i·B into one transform yields A and B as
-//! the real and imaginary outputs. The horizontal displacement is D = +λ·(X, Z): for a wave
+//! the real and imaginary outputs. With [`Derivatives::Finite`](crate::sim::Derivatives) only
+//! the first column's fields are made, two transforms: h + i·X and Z + i·0 ([`evolve_finite`]);
+//! the surface stage takes the slopes by central differences. The horizontal displacement is D = +λ·(X, Z): for a wave
 //! h = a·cos θ, X = −a·uₓ·sin θ, so points move toward the crest (x' = x − λ·a·sin θ, the
 //! Gerstner trochoid: sharp crests, flat troughs, J < 1 on crests). The thesis's eq. 25 and 44
 //! each carry a minus sign; applied together with this table's X they would pull points away
@@ -121,6 +123,18 @@ fn packed_pair(hr: f32, hi: f32, ux: f32, uz: f32, kx: f32, kz: f32) -> ([f32; 8
     (at, mirror)
 }
 
+/// [`packed_pair`] for the finite-difference mode: fields h + i·X and Z + i·0 in the first
+/// four floats (the rest zero).
+#[inline(always)]
+fn packed_pair_finite(hr: f32, hi: f32, ux: f32, uz: f32) -> ([f32; 8], [f32; 8]) {
+    let (xr, xi) = (-ux * hi, ux * hr);
+    let (zr, zi) = (-uz * hi, uz * hr);
+    (
+        [hr - xi, hi + xr, zr, zi, 0.0, 0.0, 0.0, 0.0],
+        [hr + xi, xr - hi, zr, -zi, 0.0, 0.0, 0.0, 0.0],
+    )
+}
+
 /// Inputs and constants shared by the rows of one step.
 #[derive(Clone, Copy)]
 struct EvolveConsts {
@@ -141,25 +155,31 @@ struct RowInputs<'a> {
     kz: f32,
 }
 
-/// The packed spectra at column `col` of the row and at its mirror (see [`packed_pair`]).
+/// The packed spectra at column `col` of the row and at its mirror (see [`packed_pair`];
+/// [`packed_pair_finite`] with `FINITE`).
 #[inline(always)]
-fn texel(row: &RowInputs<'_>, col: usize) -> ([f32; 8], [f32; 8]) {
+fn texel<const FINITE: bool>(row: &RowInputs<'_>, col: usize) -> ([f32; 8], [f32; 8]) {
     let (sin, cos) = sincos_turns(row.phase.turns(row.harm[col]));
     let (hr, hi) = evolved(&row.s, col, sin, cos);
     // Unit wave direction with the DC-safe rsqrt of eq. 28 (grid units).
     let gx = col as i32 as f32 - row.half;
     let gz = row.gz;
     let inv = 1.0 / (gx * gx + gz * gz).max(1.0).sqrt();
-    packed_pair(hr, hi, gx * inv, gz * inv, gx * row.dk, row.kz)
+    if FINITE {
+        packed_pair_finite(hr, hi, gx * inv, gz * inv)
+    } else {
+        packed_pair(hr, hi, gx * inv, gz * inv, gx * row.dk, row.kz)
+    }
 }
 
-/// Row r into `o*` and, with `MIRROR`, row N − r into `m*` (pass empty slices otherwise).
+/// Row r into `o*` and, with `MIRROR`, row N − r into `m*` (pass empty slices otherwise);
+/// with `FINITE` only planes 0-3 (`o4..o7`, `m4..m7` empty).
 /// Column c of row r maps to column (N − c) mod N of row N − r; column 0 (Nyquist, zero in
 /// every field) is done before the loop so the mirror stores run backwards contiguously. The
 /// planes are separate arguments so the compiler knows they do not alias and vectorizes.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn evolve_rows_kernel<const MIRROR: bool>(
+fn evolve_rows_kernel<const MIRROR: bool, const FINITE: bool>(
     row: RowInputs<'_>,
     o0: &mut [f32],
     o1: &mut [f32],
@@ -184,31 +204,46 @@ fn evolve_rows_kernel<const MIRROR: bool>(
         ..row
     };
     let (o0, o1, o2, o3) = (&mut o0[..n], &mut o1[..n], &mut o2[..n], &mut o3[..n]);
-    let (o4, o5, o6, o7) = (&mut o4[..n], &mut o5[..n], &mut o6[..n], &mut o7[..n]);
+    let hi = if FINITE { 0 } else { n };
+    let (o4, o5, o6, o7) = (&mut o4[..hi], &mut o5[..hi], &mut o6[..hi], &mut o7[..hi]);
     let m = if MIRROR { n } else { 0 };
+    let mhi = if FINITE { 0 } else { m };
     let (m0, m1, m2, m3) = (&mut m0[..m], &mut m1[..m], &mut m2[..m], &mut m3[..m]);
-    let (m4, m5, m6, m7) = (&mut m4[..m], &mut m5[..m], &mut m6[..m], &mut m7[..m]);
-    let (at, mir) = texel(&row, 0);
+    let (m4, m5, m6, m7) = (
+        &mut m4[..mhi],
+        &mut m5[..mhi],
+        &mut m6[..mhi],
+        &mut m7[..mhi],
+    );
+    let (at, mir) = texel::<FINITE>(&row, 0);
     (o0[0], o1[0], o2[0], o3[0]) = (at[0], at[1], at[2], at[3]);
-    (o4[0], o5[0], o6[0], o7[0]) = (at[4], at[5], at[6], at[7]);
+    if !FINITE {
+        (o4[0], o5[0], o6[0], o7[0]) = (at[4], at[5], at[6], at[7]);
+    }
     if MIRROR {
         (m0[0], m1[0], m2[0], m3[0]) = (mir[0], mir[1], mir[2], mir[3]);
-        (m4[0], m5[0], m6[0], m7[0]) = (mir[4], mir[5], mir[6], mir[7]);
+        if !FINITE {
+            (m4[0], m5[0], m6[0], m7[0]) = (mir[4], mir[5], mir[6], mir[7]);
+        }
     }
     for col in 1..n {
-        let (at, mir) = texel(&row, col);
+        let (at, mir) = texel::<FINITE>(&row, col);
         (o0[col], o1[col], o2[col], o3[col]) = (at[0], at[1], at[2], at[3]);
-        (o4[col], o5[col], o6[col], o7[col]) = (at[4], at[5], at[6], at[7]);
+        if !FINITE {
+            (o4[col], o5[col], o6[col], o7[col]) = (at[4], at[5], at[6], at[7]);
+        }
         if MIRROR {
             let mc = n - col;
             (m0[mc], m1[mc], m2[mc], m3[mc]) = (mir[0], mir[1], mir[2], mir[3]);
-            (m4[mc], m5[mc], m6[mc], m7[mc]) = (mir[4], mir[5], mir[6], mir[7]);
+            if !FINITE {
+                (m4[mc], m5[mc], m6[mc], m7[mc]) = (mir[4], mir[5], mir[6], mir[7]);
+            }
         }
     }
 }
 
 macro_rules! rows_variant {
-    ($name:ident, $mirror:literal) => {
+    ($name:ident, $mirror:literal, $finite:literal) => {
         dispatch!(
             #[allow(clippy::too_many_arguments)]
             fn $name(
@@ -229,26 +264,33 @@ macro_rules! rows_variant {
                 m5: &mut [f32],
                 m6: &mut [f32],
                 m7: &mut [f32],
-            ) => evolve_rows_kernel::<$mirror>
+            ) => evolve_rows_kernel::<$mirror, $finite>
         );
     };
 }
-rows_variant!(evolve_pair_rows, true);
-rows_variant!(evolve_single_row, false);
+rows_variant!(evolve_pair_rows, true, false);
+rows_variant!(evolve_single_row, false, false);
+rows_variant!(evolve_pair_rows_finite, true, true);
+rows_variant!(evolve_single_row_finite, false, true);
 
-/// Runs one row (`mirror` empty: the row is its own mirror) or a mirrored pair.
-fn evolve_rows(row: RowInputs<'_>, out: [&mut [f32]; 8], mirror: [&mut [f32]; 8]) {
+/// Runs one row (`mirror` empty: the row is its own mirror) or a mirrored pair, all eight
+/// planes or (`FINITE`) the first four.
+fn evolve_rows<const FINITE: bool>(
+    row: RowInputs<'_>,
+    out: [&mut [f32]; 8],
+    mirror: [&mut [f32]; 8],
+) {
     let [o0, o1, o2, o3, o4, o5, o6, o7] = out;
     let [m0, m1, m2, m3, m4, m5, m6, m7] = mirror;
-    if m0.is_empty() {
-        evolve_single_row(
-            row, o0, o1, o2, o3, o4, o5, o6, o7, m0, m1, m2, m3, m4, m5, m6, m7,
-        )
-    } else {
-        evolve_pair_rows(
-            row, o0, o1, o2, o3, o4, o5, o6, o7, m0, m1, m2, m3, m4, m5, m6, m7,
-        )
-    }
+    let run = match (m0.is_empty(), FINITE) {
+        (true, false) => evolve_single_row,
+        (false, false) => evolve_pair_rows,
+        (true, true) => evolve_single_row_finite,
+        (false, true) => evolve_pair_rows_finite,
+    };
+    run(
+        row, o0, o1, o2, o3, o4, o5, o6, o7, m0, m1, m2, m3, m4, m5, m6, m7,
+    )
 }
 
 /// The same row of 8 planes as one item: a parallel iterator over rows of all planes at once.
@@ -268,6 +310,23 @@ fn rows8(
         .map(|(((((((a, b), c), d), e), f), g), h)| [a, b, c, d, e, f, g, h])
 }
 
+/// [`rows8`] over the first four planes (the rest are empty), for the finite mode.
+fn rows4(
+    planes: [&mut [f32]; 8],
+    n: usize,
+) -> impl IndexedParallelIterator<Item = [&mut [f32]; 8]> {
+    let [a, b, c, d, ..] = planes;
+    a.par_chunks_mut(n)
+        .zip(b.par_chunks_mut(n))
+        .zip(c.par_chunks_mut(n))
+        .zip(d.par_chunks_mut(n))
+        .map(|(((a, b), c), d)| {
+            let mut row: [&mut [f32]; 8] = Default::default();
+            [row[0], row[1], row[2], row[3]] = [a, b, c, d];
+            row
+        })
+}
+
 /// Writes the four packed field spectra at loop phase `phase` (eq. 24) for a cascade of patch
 /// size `patch` (m). Rows r and N − r are computed together (Hermitian symmetry), so the
 /// evolution and its spectrum reads cover half the grid. Parallel over row pairs on the current
@@ -278,6 +337,37 @@ pub fn evolve(
     phase: LoopPhase,
     fields: &mut [SplitField; 4],
 ) {
+    let [f0, f1, f2, f3] = fields;
+    let (r0, i0) = f0.planes_mut();
+    let (r1, i1) = f1.planes_mut();
+    let (r2, i2) = f2.planes_mut();
+    let (r3, i3) = f3.planes_mut();
+    evolve_planes::<false>(spectrum, patch, phase, [r0, i0, r1, i1, r2, i2, r3, i3]);
+}
+
+/// [`evolve`] for [`Derivatives::Finite`](crate::sim::Derivatives): the spectra of h + i·X and
+/// Z + i·0 only (the surface stage differences them), half the planes and transforms.
+pub fn evolve_finite(
+    spectrum: &PackedSpectrum,
+    patch: f32,
+    phase: LoopPhase,
+    fields: &mut [SplitField; 2],
+) {
+    let [f0, f1] = fields;
+    let (r0, i0) = f0.planes_mut();
+    let (r1, i1) = f1.planes_mut();
+    let mut planes: [&mut [f32]; 8] = Default::default();
+    [planes[0], planes[1], planes[2], planes[3]] = [r0, i0, r1, i1];
+    evolve_planes::<true>(spectrum, patch, phase, planes);
+}
+
+/// The common body of [`evolve`] and [`evolve_finite`] (`FINITE`: planes 4-7 are empty).
+fn evolve_planes<const FINITE: bool>(
+    spectrum: &PackedSpectrum,
+    patch: f32,
+    phase: LoopPhase,
+    planes: [&mut [f32]; 8],
+) {
     let n = spectrum.grid.n();
     let half = n / 2;
     let k = EvolveConsts {
@@ -285,17 +375,13 @@ pub fn evolve(
         dk: std::f32::consts::TAU / patch,
         half: half as f32,
     };
-    let [f0, f1, f2, f3] = fields;
-    let (r0, i0) = f0.planes_mut();
-    let (r1, i1) = f1.planes_mut();
-    let (r2, i2) = f2.planes_mut();
-    let (r3, i3) = f3.planes_mut();
+    let used = if FINITE { 4 } else { 8 };
     // Each plane: row 0 | rows 1..N/2 | row N/2 | rows N/2+1..N.
     let mut row0: [&mut [f32]; 8] = Default::default();
     let mut top: [&mut [f32]; 8] = Default::default();
     let mut mid: [&mut [f32]; 8] = Default::default();
     let mut bottom: [&mut [f32]; 8] = Default::default();
-    for (i, plane) in [r0, i0, r1, i1, r2, i2, r3, i3].into_iter().enumerate() {
+    for (i, plane) in planes.into_iter().take(used).enumerate() {
         let (a, rest) = plane.split_at_mut(n);
         let (b, rest) = rest.split_at_mut((half - 1) * n);
         let (c, d) = rest.split_at_mut(n);
@@ -316,13 +402,21 @@ pub fn evolve(
     };
     // The two rows that are their own mirror: the Nyquist row 0 and k_z = 0.
     for (r, out) in [(0, row0), (half, mid)] {
-        evolve_rows(row_of(r), out, Default::default());
+        evolve_rows::<FINITE>(row_of(r), out, Default::default());
     }
     // Rows 1..N/2 ascending pair with rows N−1..N/2+1 descending.
-    rows8(top, n)
-        .zip(rows8(bottom, n).rev())
-        .enumerate()
-        .for_each(|(j, (out, mirror))| evolve_rows(row_of(j + 1), out, mirror));
+    let pair = |(j, (out, mirror))| evolve_rows::<FINITE>(row_of(j + 1), out, mirror);
+    if FINITE {
+        rows4(top, n)
+            .zip(rows4(bottom, n).rev())
+            .enumerate()
+            .for_each(pair);
+    } else {
+        rows8(top, n)
+            .zip(rows8(bottom, n).rev())
+            .enumerate()
+            .for_each(pair);
+    }
 }
 
 #[cfg(test)]

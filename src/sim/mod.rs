@@ -45,7 +45,7 @@ pub mod workers;
 
 pub use grid::{AlignedBuf, GridSize, SplitField};
 pub use params::{
-    FoamParams, OceanConfig, PatchFit, SpectrumKind, WaveParams, DEFAULT_FETCH_KM, DEFAULT_GAMMA,
-    DEFAULT_PATCH_SIZES,
+    Derivatives, FoamParams, OceanConfig, PatchFit, SpectrumKind, WaveParams, DEFAULT_DERIVATIVES,
+    DEFAULT_FETCH_KM, DEFAULT_GAMMA, DEFAULT_PATCH_SIZES,
 };
 pub use step::{SimCore, SimError, Simulation, StageTimes, Surfaces};

@@ -121,6 +121,48 @@ pub enum PatchFit {
     },
 }
 
+/// How the surface stage gets the slopes and the Jacobian of the displaced surface.
+///
+/// Spectral derivatives are exact for every wave the grid holds but cost eight real fields,
+/// four complex FFTs per cascade (thesis eq. 47-48 taken in the spectrum); central differences
+/// of the displacement (eq. 45-46) need only h, Dx and Dz, two FFTs, and respond to a wave of
+/// wave number k with sin(kΔ)/(kΔ) of its slope (Δ = L/N): the finest waves of each cascade
+/// come out flatter. `docs/notes/fft-128bit.md` measures both.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Derivatives {
+    /// ∂/∂x = i·kₓ in the spectrum: 8 real fields, 4 complex FFTs per cascade.
+    Spectral,
+    /// Central differences of h, Dx, Dz on the grid: 3 real fields, 2 complex FFTs.
+    Finite,
+}
+
+impl Derivatives {
+    /// Complex transforms per cascade and step.
+    pub fn transforms(self) -> usize {
+        match self {
+            Derivatives::Spectral => 4,
+            Derivatives::Finite => 2,
+        }
+    }
+
+    /// The default of this target: see [`DEFAULT_DERIVATIVES`].
+    pub fn default_for_target() -> Derivatives {
+        DEFAULT_DERIVATIVES
+    }
+}
+
+impl std::fmt::Display for Derivatives {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Derivatives::Spectral => "spectral",
+            Derivatives::Finite => "finite",
+        })
+    }
+}
+
+/// The derivative mode [`OceanConfig`]'s constructors pick.
+pub const DEFAULT_DERIVATIVES: Derivatives = Derivatives::Spectral;
+
 /// A complete simulation configuration: grid, cascade patch sizes, waves.
 #[derive(Clone, Debug, PartialEq)]
 pub struct OceanConfig {
@@ -135,6 +177,8 @@ pub struct OceanConfig {
     /// Whether each step computes the whitecaps of the whole surface
     /// ([`crate::sim::whitecaps`], a few ms of one core a step); off, they stay empty.
     pub whitecaps: bool,
+    /// How slopes and the Jacobian are taken ([`Derivatives`]).
+    pub derivatives: Derivatives,
 }
 
 /// The default cascades' patch sizes (m), coarsest first: non-integer ratios (≈3.7, ≈4.3) so
@@ -150,6 +194,7 @@ impl OceanConfig {
             patch_fit: PatchFit::Fixed,
             waves: WaveParams::default(),
             whitecaps: true,
+            derivatives: Derivatives::default_for_target(),
         };
         cfg.validate()?;
         Ok(cfg)
@@ -166,6 +211,7 @@ impl OceanConfig {
             },
             waves: WaveParams::default(),
             whitecaps: true,
+            derivatives: Derivatives::default_for_target(),
         };
         cfg.fit_patches();
         cfg.validate()?;

@@ -8,10 +8,10 @@ use crate::base::ParamError;
 use crate::sim::evolve::{self, LoopPhase};
 use crate::sim::fft::Fft2d;
 use crate::sim::grid::{AlignedBuf, GridSize, SplitField};
-use crate::sim::params::{OceanConfig, WaveParams};
+use crate::sim::params::{Derivatives, OceanConfig, WaveParams};
 use crate::sim::query;
 use crate::sim::spectrum::{cascade_bands, CascadeSpec, PackedSpectrum};
-use crate::sim::surface::{self, CascadeSurface, FloatCopies, SurfaceParams};
+use crate::sim::surface::{self, CascadeSurface, FloatCopies, SurfaceParams, Transformed};
 use crate::sim::whitecaps::{WhitecapInput, WhitecapState, Whitecaps};
 
 /// One step's output for every cascade, coarsest first.
@@ -87,7 +87,7 @@ impl Surfaces {
 pub struct StageTimes {
     /// Stage 2: time evolution and packing of the derivative spectra.
     pub evolve: Duration,
-    /// Stages 3-4: the inverse 2D FFTs (four per cascade).
+    /// Stages 3-4: the inverse 2D FFTs (four per cascade, two with [`Derivatives::Finite`]).
     pub fft: Duration,
     /// Stages 5-6+: displacement, normals, Jacobian, foam, packing and mips.
     pub surface: Duration,
@@ -102,11 +102,46 @@ impl StageTimes {
     }
 }
 
+/// One cascade's FFT work buffers, as many as its derivative mode transforms.
+enum Fields {
+    Spectral(Box<[SplitField; 4]>),
+    Finite(Box<[SplitField; 2]>),
+}
+
+impl Fields {
+    fn new(mode: Derivatives, grid: GridSize) -> Fields {
+        match mode {
+            Derivatives::Spectral => {
+                Fields::Spectral(Box::new(std::array::from_fn(|_| SplitField::zeros(grid))))
+            }
+            Derivatives::Finite => {
+                Fields::Finite(Box::new(std::array::from_fn(|_| SplitField::zeros(grid))))
+            }
+        }
+    }
+
+    /// Every field, for the FFT.
+    fn all(&mut self) -> &mut [SplitField] {
+        match self {
+            Fields::Spectral(f) => &mut f[..],
+            Fields::Finite(f) => &mut f[..],
+        }
+    }
+
+    /// The transformed fields for the surface stage.
+    fn transformed(&self) -> Transformed<'_> {
+        match self {
+            Fields::Spectral(f) => Transformed::Spectral(f),
+            Fields::Finite(f) => Transformed::Finite(f),
+        }
+    }
+}
+
 /// One cascade's private state: its packed spectrum, FFT work buffers and persistent foam.
 struct CascadeSim {
     spec: CascadeSpec,
     spectrum: PackedSpectrum,
-    fields: [SplitField; 4],
+    fields: Fields,
     foam: AlignedBuf,
 }
 
@@ -166,7 +201,7 @@ impl SimCore {
                 CascadeSim {
                     spectrum: PackedSpectrum::generate(&config.waves, &spec),
                     spec,
-                    fields: std::array::from_fn(|_| SplitField::zeros(grid)),
+                    fields: Fields::new(config.derivatives, grid),
                     foam: AlignedBuf::zeros(grid.texels()),
                 }
             })
@@ -259,7 +294,9 @@ impl SimCore {
         let phase = LoopPhase::new(t, waves.loop_period);
         out.unresolved_slope_variance = crate::sim::spectrum::unresolved_slope_variance(
             waves.wind_speed,
-            self.cascades.iter().map(|c| c.spectrum.slopes),
+            self.cascades
+                .iter()
+                .map(|c| c.spectrum.slopes.shown(self.config.derivatives)),
         ) as f32;
         out.base_normal_length = crate::sim::pack::normal_length(waves.roughness);
         let variance: f64 = self
@@ -272,11 +309,16 @@ impl SimCore {
         for (c, surface) in self.cascades.iter_mut().zip(&mut out.cascades) {
             surface.patch = c.spec.patch;
             let t0 = Instant::now();
-            evolve::evolve(&c.spectrum, c.spec.patch, phase, &mut c.fields);
+            match &mut c.fields {
+                Fields::Spectral(f) => evolve::evolve(&c.spectrum, c.spec.patch, phase, f),
+                Fields::Finite(f) => evolve::evolve_finite(&c.spectrum, c.spec.patch, phase, f),
+            }
             let t1 = Instant::now();
-            self.fft.inverse_batch(&mut c.fields, &mut self.scratch);
+            let fields = c.fields.all();
+            let groups = self.scratch.len().min(fields.len());
+            self.fft.inverse_batch(fields, &mut self.scratch[..groups]);
             let t2 = Instant::now();
-            surface::finalize(&c.fields, &mut c.foam, params, t, surface);
+            surface::finalize(c.fields.transformed(), &mut c.foam, params, t, surface);
             let t3 = Instant::now();
             times.evolve += t1 - t0;
             times.fft += t2 - t1;

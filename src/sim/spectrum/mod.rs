@@ -9,7 +9,7 @@ use rayon::prelude::*;
 
 use crate::sim::dispersion;
 use crate::sim::grid::{AlignedBuf, GridSize};
-use crate::sim::params::{SpectrumKind, WaveParams};
+use crate::sim::params::{Derivatives, SpectrumKind, WaveParams};
 
 /// The wave numbers |k| ∈ [lo, hi) (rad/m) one cascade owns, so that cascades together cover
 /// the spectrum once and no energy is counted twice.
@@ -167,11 +167,30 @@ pub fn power_at(model: &SpectrumModel, c: &CascadeSpec, kx: f64, kz: f64, k: f64
 pub struct SlopeVariance {
     /// Of the waves on the cascade's grid: Σ k²·E|h̃(k)|².
     pub resolved: f64,
+    /// What central differences on the grid show of them ([`Derivatives::Finite`]):
+    /// Σ (sin²(kₓΔ) + sin²(k_zΔ))/Δ²·E|h̃(k)|², Δ = L/N.
+    pub resolved_finite: f64,
     /// Of the finest cascade's waves too short for its grid (|k| above its Nyquist wave
     /// number πN/L, up to the gravity-capillary limit): what no texel can show, so it becomes
     /// BRDF roughness (Bruneton, Neyret & Holzschuch 2010). Zero for coarser cascades, whose
     /// band ends inside their grid.
     pub unresolved: f64,
+}
+
+impl SlopeVariance {
+    /// The variances as the surface shows them with derivative mode `d`: with central
+    /// differences, the slope the grid's waves lose (their finest flattened by sin(kΔ)/(kΔ))
+    /// joins the unresolved part, so the renderer's roughness makes it up.
+    pub fn shown(self, d: Derivatives) -> SlopeVariance {
+        match d {
+            Derivatives::Spectral => self,
+            Derivatives::Finite => SlopeVariance {
+                resolved: self.resolved_finite,
+                unresolved: self.unresolved + (self.resolved - self.resolved_finite).max(0.0),
+                ..self
+            },
+        }
+    }
 }
 
 /// Mean square slope (both directions) of a wind sea measured from the sun's glitter (Cox &
@@ -199,14 +218,18 @@ pub const CAPILLARY_K: f64 = 370.0;
 /// polar grid, log-spaced in |k|: it runs when the waves change, never per frame.
 pub fn slope_variance(model: &SpectrumModel, c: &CascadeSpec) -> SlopeVariance {
     let n = c.grid.n();
-    let resolved = (0..n * n)
+    let dx = c.patch as f64 / n as f64;
+    let (resolved, resolved_finite) = (0..n * n)
         .map(|i| {
             let (col, row) = (i % n, i / n);
             let (kx, kz) = wave_vector(col, row, c.grid, c.patch);
-            // Both h̃(k) and h̃(−k) carry E|h₀|²: 2·P per mode, times k².
-            2.0 * mode_power(model, c, col, row) * (kx * kx + kz * kz)
+            // Both h̃(k) and h̃(−k) carry E|h₀|²: 2·P per mode, times k² (or what central
+            // differences respond with, sin(kΔ)/Δ per axis).
+            let p = 2.0 * mode_power(model, c, col, row);
+            let fd = ((kx * dx).sin().powi(2) + (kz * dx).sin().powi(2)) / (dx * dx);
+            (p * (kx * kx + kz * kz), p * fd)
         })
-        .sum();
+        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
     let nyquist = std::f64::consts::PI * n as f64 / c.patch as f64;
     let unresolved = if c.band.hi.is_infinite() && nyquist < CAPILLARY_K {
         const RINGS: usize = 160;
@@ -237,6 +260,7 @@ pub fn slope_variance(model: &SpectrumModel, c: &CascadeSpec) -> SlopeVariance {
     };
     SlopeVariance {
         resolved,
+        resolved_finite,
         unresolved,
     }
 }

@@ -1,6 +1,8 @@
-//! Stages 5-6 (thesis 4.2.4-4.2.5): from the four transformed fields to the surface a renderer
-//! and a buoyancy query use: displacement (eq. 42-44), normals and Jacobian from the spectral
-//! derivatives (eq. 47-48), persistent foam, RGBA8/RGBA16F packing and the mip chain (eq. 52-55).
+//! Stages 5-6 (thesis 4.2.4-4.2.5): from the transformed fields to the surface a renderer
+//! and a buoyancy query use: displacement (eq. 42-44), normals and Jacobian (eq. 47-48) from
+//! the spectral derivatives or from central differences of the displacement (eq. 45-46, see
+//! [`crate::sim::Derivatives`]), persistent foam, RGBA8/RGBA16F packing and the mip chain
+//! (eq. 52-55).
 //!
 //! # Formats
 //! [`CascadeSurface::displacement_f16`] is RGBA16F (Dx, h, Dz, J); `normal_foam` is RGBA8
@@ -30,7 +32,9 @@ mod mips;
 mod row;
 
 use self::mips::{build_mips, mip_planes};
-use self::row::{plane_row, surface_row, RowIn, RowOut, SurfaceConsts};
+use self::row::{
+    plane_row, surface_row, Finite, RowIn, RowOut, RowSource, Spectral, SurfaceConsts,
+};
 
 /// Everything one cascade publishes per step, in GPU upload formats plus float copies for CPU
 /// queries and export. Allocated once; every step overwrites it in place.
@@ -136,10 +140,54 @@ pub struct SurfaceParams {
     pub dt: f32,
 }
 
+/// One cascade's transformed fields, as its derivative mode made them.
+#[derive(Clone, Copy)]
+pub enum Transformed<'a> {
+    /// The four packed fields of [`crate::sim::evolve::evolve`] (spectral derivatives).
+    Spectral(&'a [SplitField; 4]),
+    /// The two of [`crate::sim::evolve::evolve_finite`]: h + i·X and Z (central differences).
+    Finite(&'a [SplitField; 2]),
+}
+
+impl<'a> Transformed<'a> {
+    /// Row `row`'s source for the row kernel (grid side `n`).
+    fn row(self, row: usize, n: usize) -> RowSource<'a> {
+        let r = |f, im, row: usize| plane_row(f, im, row * n, n);
+        match self {
+            Transformed::Spectral(f) => RowSource::Spectral(Spectral {
+                fields: [
+                    r(&f[0], false, row),
+                    r(&f[0], true, row),
+                    r(&f[1], false, row),
+                    r(&f[1], true, row),
+                    r(&f[2], false, row),
+                    r(&f[2], true, row),
+                    r(&f[3], false, row),
+                    r(&f[3], true, row),
+                ],
+            }),
+            Transformed::Finite(f) => {
+                let hxz = |row| {
+                    [
+                        r(&f[0], false, row),
+                        r(&f[0], true, row),
+                        r(&f[1], false, row),
+                    ]
+                };
+                RowSource::Finite(Finite {
+                    mid: hxz(row),
+                    up: hxz((row + 1) % n),
+                    down: hxz((row + n - 1) % n),
+                })
+            }
+        }
+    }
+}
+
 /// Stage 5-6 for one cascade: reads the transformed `fields` (see [`crate::sim::evolve`] for
 /// their contents), updates the persistent `foam` state and fills `out` including mips.
 pub fn finalize(
-    fields: &[SplitField; 4],
+    fields: Transformed<'_>,
     foam: &mut [f32],
     p: SurfaceParams,
     time: f64,
@@ -154,6 +202,7 @@ pub fn finalize(
         threshold: p.foam.threshold,
         len,
         smooth: pack::smoothness(len),
+        inv_2dx: n as f32 / (2.0 * out.patch),
     };
     // Rows go in pairs so mip level 1 is averaged while both source rows are still in cache.
     // Level-0 floats (and the f32 displacement) live in a per-task stack buffer as planes,
@@ -191,21 +240,10 @@ pub fn finalize(
             .zip(p.row_max.iter_mut());
         for (i, (((disp16, rgba), foam), rmax)) in rows.enumerate() {
             let row = 2 * pair + i;
-            let b = row * n;
-            let r = |f, im| plane_row(f, im, b, n);
             let [p0, p1, p2, p3] = &mut fl;
             let [d0, d1, d2, d3] = &mut dl;
             let input = RowIn {
-                fields: [
-                    r(&fields[0], false),
-                    r(&fields[0], true),
-                    r(&fields[1], false),
-                    r(&fields[1], true),
-                    r(&fields[2], false),
-                    r(&fields[2], true),
-                    r(&fields[3], false),
-                    r(&fields[3], true),
-                ],
+                src: fields.row(row, n),
                 row_sign: if row & 1 == 0 { 1.0 } else { -1.0 },
                 k,
             };

@@ -15,12 +15,145 @@ pub(super) struct SurfaceConsts {
     pub threshold: f32,
     pub len: f32,
     pub smooth: f32,
+    /// 1 / (2Δ) with Δ = L/N the texel spacing (m): central differences' divisor.
+    pub inv_2dx: f32,
+}
+
+/// What a texel's surface needs, sign-corrected and scaled (m, or dimensionless for slopes):
+/// height, displacement and the nine derivatives of eq. 47-48, however they were taken.
+#[derive(Clone, Copy)]
+pub(super) struct Texel {
+    h: f32,
+    dx: f32,
+    dz: f32,
+    /// ∂h/∂x, ∂h/∂z.
+    hx: f32,
+    hz: f32,
+    /// ∂Dx/∂x, ∂Dz/∂z, ∂Dx/∂z, ∂Dz/∂x (the last two equal in the spectral mode).
+    dxx: f32,
+    dzz: f32,
+    dxz: f32,
+    dzx: f32,
+}
+
+/// Where one row's [`Texel`]s come from: the derivative mode's fields.
+pub(super) trait Source: Copy {
+    /// Whether the first and last columns need [`Source::edge`] (neighbours that wrap).
+    const WRAPS: bool;
+    /// The same source with every slice cut to `n` (exact lengths let LLVM drop bounds checks).
+    fn fit(self, n: usize) -> Self;
+    /// Texel `col` with sign `s` = (−1)^(row+col) (eq. 42-43); for a source that wraps, only
+    /// 1 ≤ col ≤ n − 2.
+    fn at(&self, col: usize, s: f32, k: &SurfaceConsts) -> Texel;
+    /// Texel `col` at the row's ends, its neighbours wrapping around the periodic patch.
+    fn edge(&self, col: usize, s: f32, k: &SurfaceConsts) -> Texel;
+}
+
+/// Spectral derivatives: the eight real fields of the four packed transforms (see
+/// [`crate::sim::evolve`]), this row of each plane.
+#[derive(Clone, Copy)]
+pub(super) struct Spectral<'a> {
+    pub fields: [&'a [f32]; 8],
+}
+
+impl Source for Spectral<'_> {
+    const WRAPS: bool = false;
+    #[inline(always)]
+    fn fit(self, n: usize) -> Self {
+        Self {
+            fields: self.fields.map(|p| &p[..n]),
+        }
+    }
+    #[inline(always)]
+    fn at(&self, col: usize, s: f32, k: &SurfaceConsts) -> Texel {
+        let [f0r, f0i, f1r, f1i, f2r, f2i, f3r, f3i] = self.fields;
+        // D = +λ·(X, Z) with X = Σ i·u·h̃·e^{ik·x} (see `evolve`): for h = a·cos θ this is
+        // Dx = −λ·a·sin θ, the trochoid that gathers points under the crests (Gerstner).
+        let ls = k.lambda * s;
+        let dxz = ls * f3i[col];
+        Texel {
+            h: f0r[col] * s,
+            dx: ls * f0i[col],
+            dz: ls * f1r[col],
+            hx: f1i[col] * s,
+            hz: f2r[col] * s,
+            dxx: ls * f2i[col],
+            dzz: ls * f3r[col],
+            dxz,
+            // ∂Dz/∂x = ∂Dx/∂z for the spectral fields.
+            dzx: dxz,
+        }
+    }
+    #[inline(always)]
+    fn edge(&self, col: usize, s: f32, k: &SurfaceConsts) -> Texel {
+        self.at(col, s, k)
+    }
+}
+
+/// Central differences (eq. 45-46): h, X and Z of this row and of the rows above (z + Δ) and
+/// below (z − Δ), wrapping around the patch.
+#[derive(Clone, Copy)]
+pub(super) struct Finite<'a> {
+    /// [h, X, Z] of this row, raw (before the sign correction).
+    pub mid: [&'a [f32]; 3],
+    /// [h, X, Z] of row r + 1.
+    pub up: [&'a [f32]; 3],
+    /// [h, X, Z] of row r − 1.
+    pub down: [&'a [f32]; 3],
+}
+
+impl Finite<'_> {
+    /// The texel at `col` whose left and right neighbours are columns `l` and `r`.
+    #[inline(always)]
+    fn around(&self, col: usize, l: usize, r: usize, s: f32, k: &SurfaceConsts) -> Texel {
+        let [h, x, z] = self.mid;
+        let [hu, xu, zu] = self.up;
+        let [hd, xd, zd] = self.down;
+        let ls = k.lambda * s;
+        // Neighbours carry the opposite sign, (−1)^(c±1) = −(−1)^c, so
+        // f(c+1) − f(c−1) = −s·(raw(c+1) − raw(c−1)).
+        let d = -s * k.inv_2dx;
+        let ld = k.lambda * d;
+        Texel {
+            h: h[col] * s,
+            dx: ls * x[col],
+            dz: ls * z[col],
+            hx: d * (h[r] - h[l]),
+            hz: d * (hu[col] - hd[col]),
+            dxx: ld * (x[r] - x[l]),
+            dzz: ld * (zu[col] - zd[col]),
+            dxz: ld * (xu[col] - xd[col]),
+            dzx: ld * (z[r] - z[l]),
+        }
+    }
+}
+
+impl<'a> Source for Finite<'a> {
+    const WRAPS: bool = true;
+    #[inline(always)]
+    fn fit(self, n: usize) -> Self {
+        let cut = |p: [&'a [f32]; 3]| p.map(|q| &q[..n]);
+        Self {
+            mid: cut(self.mid),
+            up: cut(self.up),
+            down: cut(self.down),
+        }
+    }
+    #[inline(always)]
+    fn at(&self, col: usize, s: f32, k: &SurfaceConsts) -> Texel {
+        self.around(col, col - 1, col + 1, s, k)
+    }
+    #[inline(always)]
+    fn edge(&self, col: usize, s: f32, k: &SurfaceConsts) -> Texel {
+        let n = self.mid[0].len();
+        self.around(col, (col + n - 1) % n, (col + 1) % n, s, k)
+    }
 }
 
 /// What one row of the surface stage reads.
 #[derive(Clone, Copy)]
-pub(super) struct RowIn<'a> {
-    pub fields: [&'a [f32]; 8],
+pub(super) struct RowIn<S> {
+    pub src: S,
     pub row_sign: f32,
     pub k: SurfaceConsts,
 }
@@ -45,8 +178,8 @@ pub(super) struct RowOut<'a> {
 /// pairwise overlap checks of all eleven outputs, which cost more than a 256-texel row.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn surface_row_kernel<const KEEP: bool>(
-    row: RowIn<'_>,
+fn surface_row_kernel<S: Source, const KEEP: bool>(
+    row: RowIn<S>,
     disp16: &mut [[u16; 4]],
     p0: &mut [f32],
     p1: &mut [f32],
@@ -61,44 +194,48 @@ fn surface_row_kernel<const KEEP: bool>(
     max: &mut [f32; 3],
 ) {
     let n = rgba.len();
-    let [f0r, f0i, f1r, f1i, f2r, f2i, f3r, f3i] = row.fields;
     // Exact-length slices let the compiler drop bounds checks and vectorize.
-    let (f0r, f0i, f1r, f1i) = (&f0r[..n], &f0i[..n], &f1r[..n], &f1i[..n]);
-    let (f2r, f2i, f3r, f3i) = (&f2r[..n], &f2i[..n], &f3r[..n], &f3i[..n]);
+    let src = row.src.fit(n);
     let (foam, disp16) = (&mut foam[..n], &mut disp16[..n]);
     let (p0, p1, p2, p3) = (&mut p0[..n], &mut p1[..n], &mut p2[..n], &mut p3[..n]);
     let m = if KEEP { n } else { 0 };
     let (d0, d1, d2, d3) = (&mut d0[..m], &mut d1[..m], &mut d2[..m], &mut d3[..m]);
     let k = row.k;
-    // Maxima of |Dx|, |h|, |Dz| as the bits of non-negative floats, whose integer order is
-    // their numeric order: an integer max reduction vectorizes, a float one does not.
-    let mut mx = [0u32; 3];
-    for col in 0..n {
-        // (−1)^(x+y) undoes the centred spectrum (eq. 42-43).
-        let s = if col & 1 == 0 {
+    // (−1)^(x+y) undoes the centred spectrum (eq. 42-43).
+    let sign = |col: usize| {
+        if col & 1 == 0 {
             row.row_sign
         } else {
             -row.row_sign
-        };
-        let h = f0r[col] * s;
-        // D = +λ·(X, Z) with X = Σ i·u·h̃·e^{ik·x} (see `evolve`): for h = a·cos θ this is
-        // Dx = −λ·a·sin θ, the trochoid that gathers points under the crests (Gerstner).
-        let ls = k.lambda * s;
-        let dx = ls * f0i[col];
-        let dz = ls * f1r[col];
-        let hx = f1i[col] * s;
-        let hz = f2r[col] * s;
-        let dxx = ls * f2i[col];
-        let dzz = ls * f3r[col];
-        let dxz = ls * f3i[col];
-        // Jacobian of the horizontal map x ↦ x + D(x) (eq. 48); ∂Dz/∂x = ∂Dx/∂z.
+        }
+    };
+    // Maxima of |Dx|, |h|, |Dz| as the bits of non-negative floats, whose integer order is
+    // their numeric order: an integer max reduction vectorizes, a float one does not.
+    let mut mx = [0u32; 3];
+    // A macro, not a closure: the closure was compiled apart, without the caller's target
+    // features, and called per texel (9x slower).
+    macro_rules! texel {
+        ($col:expr, $t:expr) => {{
+        let (col, t): (usize, Texel) = ($col, $t);
+        let Texel {
+            h,
+            dx,
+            dz,
+            hx,
+            hz,
+            dxx,
+            dzz,
+            dxz,
+            dzx,
+        } = t;
+        // Jacobian of the horizontal map x ↦ x + D(x) (eq. 48).
         let (jxx, jzz) = (1.0 + dxx, 1.0 + dzz);
-        let j = jxx * jzz - dxz * dxz;
+        let j = jxx * jzz - dxz * dzx;
         // Normal of the displaced surface: ∂P/∂z × ∂P/∂x with P = x + (Dx, h, Dz); for λ = 0
         // this is eq. 47's (−∂h/∂x, 1, −∂h/∂z). Folded texels (J < 0) flip so the normal keeps
         // facing up.
         let flip = if j < 0.0 { -1.0 } else { 1.0 };
-        let nx = (hz * dxz - jzz * hx) * flip;
+        let nx = (hz * dzx - jzz * hx) * flip;
         let ny = j * flip;
         let nz = (dxz * hx - jxx * hz) * flip;
         let l2 = nx * nx + ny * ny + nz * nz;
@@ -125,17 +262,29 @@ fn surface_row_kernel<const KEEP: bool>(
             mx[1].max(abs_bits(h)),
             mx[2].max(abs_bits(dz)),
         ];
+        }};
+    }
+    if S::WRAPS {
+        texel!(0, src.edge(0, sign(0), &k));
+        for col in 1..n - 1 {
+            texel!(col, src.at(col, sign(col), &k));
+        }
+        texel!(n - 1, src.edge(n - 1, sign(n - 1), &k));
+    } else {
+        for col in 0..n {
+            texel!(col, src.at(col, sign(col), &k));
+        }
     }
     *max = mx.map(f32::from_bits);
 }
 
 macro_rules! surface_variant {
-    ($(#[$m:meta])* $name:ident, $keep:literal) => {
+    ($(#[$m:meta])* $name:ident, $src:ident, $keep:literal) => {
         dispatch!(
             $(#[$m])*
             #[allow(clippy::too_many_arguments)]
             fn $name(
-                row: RowIn<'_>,
+                row: RowIn<$src<'_>>,
                 disp16: &mut [[u16; 4]],
                 p0: &mut [f32],
                 p1: &mut [f32],
@@ -148,23 +297,44 @@ macro_rules! surface_variant {
                 rgba: &mut [u32],
                 foam: &mut [f32],
                 max: &mut [f32; 3],
-            ) => surface_row_kernel::<$keep>
+            ) => surface_row_kernel::<$src<'_>, $keep>
         );
     };
 }
 surface_variant!(
     /// [`surface_row_kernel`] behind runtime ISA dispatch.
     surface_row_skip,
+    Spectral,
     false
 );
 surface_variant!(
     /// [`surface_row_kernel`] that also writes the f32 displacement, behind ISA dispatch.
     surface_row_keep,
+    Spectral,
+    true
+);
+surface_variant!(
+    /// [`surface_row_skip`] by central differences.
+    surface_row_skip_finite,
+    Finite,
+    false
+);
+surface_variant!(
+    /// [`surface_row_keep`] by central differences.
+    surface_row_keep_finite,
+    Finite,
     true
 );
 
+/// One row's source in either derivative mode.
+#[derive(Clone, Copy)]
+pub(super) enum RowSource<'a> {
+    Spectral(Spectral<'a>),
+    Finite(Finite<'a>),
+}
+
 /// Runs one row of the surface stage (writing `out.disp` when it is not empty).
-pub(super) fn surface_row(row: RowIn<'_>, out: RowOut<'_>) {
+pub(super) fn surface_row(row: RowIn<RowSource<'_>>, out: RowOut<'_>) {
     let RowOut {
         disp16,
         floats: [p0, p1, p2, p3],
@@ -173,10 +343,35 @@ pub(super) fn surface_row(row: RowIn<'_>, out: RowOut<'_>) {
         foam,
         max,
     } = out;
-    if d0.is_empty() {
-        surface_row_skip(row, disp16, p0, p1, p2, p3, d0, d1, d2, d3, rgba, foam, max)
-    } else {
-        surface_row_keep(row, disp16, p0, p1, p2, p3, d0, d1, d2, d3, rgba, foam, max)
+    let (row_sign, k) = (row.row_sign, row.k);
+    macro_rules! run {
+        ($kernel:ident, $src:expr) => {
+            $kernel(
+                RowIn {
+                    src: $src,
+                    row_sign,
+                    k,
+                },
+                disp16,
+                p0,
+                p1,
+                p2,
+                p3,
+                d0,
+                d1,
+                d2,
+                d3,
+                rgba,
+                foam,
+                max,
+            )
+        };
+    }
+    match (row.src, d0.is_empty()) {
+        (RowSource::Spectral(src), true) => run!(surface_row_skip, src),
+        (RowSource::Spectral(src), false) => run!(surface_row_keep, src),
+        (RowSource::Finite(src), true) => run!(surface_row_skip_finite, src),
+        (RowSource::Finite(src), false) => run!(surface_row_keep_finite, src),
     }
 }
 
