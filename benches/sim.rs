@@ -1,5 +1,6 @@
 //! Criterion benchmarks of the simulation pipeline: each stage and the whole step for
-//! N = 128, 256, 512 on 1 and 2 threads (one cascade = four inverse 2D FFTs per step).
+//! N = 128, 256, 512 on 1 and 2 threads (one cascade = four inverse 2D FFTs per step; the
+//! `_finite` stages and step are the central-difference mode's, two FFTs).
 //! `cargo bench --bench sim`; FFT-only comparisons with rustfft and FFTW are in `benches/fft.rs`.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
@@ -8,7 +9,7 @@ use vr_ocean::sim::evolve::{self, LoopPhase};
 use vr_ocean::sim::fft::Fft2d;
 use vr_ocean::sim::spectrum::{cascade_bands, CascadeSpec, PackedSpectrum};
 use vr_ocean::sim::surface::{self, CascadeSurface, FloatCopies, SurfaceParams, Transformed};
-use vr_ocean::sim::{AlignedBuf, OceanConfig, SimCore, SplitField, Surfaces};
+use vr_ocean::sim::{AlignedBuf, Derivatives, OceanConfig, SimCore, SplitField, Surfaces};
 
 fn stages(c: &mut Criterion) {
     for n in [128u32, 256, 512] {
@@ -65,15 +66,53 @@ fn stages(c: &mut Criterion) {
                     })
                 })
             });
-            let mut core = pool.install(|| SimCore::new(cfg.clone()).unwrap());
-            let mut surfaces = Surfaces::new(&cfg);
-            let mut t = 0.0;
-            g.bench_function(id("step"), |b| {
+            let mut finite: [SplitField; 2] = std::array::from_fn(|_| SplitField::zeros(grid));
+            g.bench_function(id("stage2_evolve_finite"), |b| {
                 b.iter(|| {
-                    t += 1.0 / 72.0;
-                    pool.install(|| core.step(t, &mut surfaces))
+                    pool.install(|| {
+                        evolve::evolve_finite(
+                            &spectrum,
+                            250.0,
+                            LoopPhase::new(3.0, 200.0),
+                            &mut finite,
+                        )
+                    })
                 })
             });
+            g.bench_function(id("stage3_4_fft2"), |b| {
+                b.iter(|| pool.install(|| fft.inverse_batch(&mut finite, &mut scratch[..2])))
+            });
+            g.bench_function(id("stage5_6_surface_finite"), |b| {
+                b.iter(|| {
+                    pool.install(|| {
+                        surface::finalize(
+                            Transformed::Finite(&finite),
+                            &mut foam,
+                            params,
+                            3.0,
+                            &mut out,
+                        )
+                    })
+                })
+            });
+            for (name, derivatives) in [
+                ("step", Derivatives::Spectral),
+                ("step_finite", Derivatives::Finite),
+            ] {
+                let cfg = OceanConfig {
+                    derivatives,
+                    ..cfg.clone()
+                };
+                let mut core = pool.install(|| SimCore::new(cfg.clone()).unwrap());
+                let mut surfaces = Surfaces::new(&cfg);
+                let mut t = 0.0;
+                g.bench_function(id(name), |b| {
+                    b.iter(|| {
+                        t += 1.0 / 72.0;
+                        pool.install(|| core.step(t, &mut surfaces))
+                    })
+                });
+            }
             g.finish();
         }
     }

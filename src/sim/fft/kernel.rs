@@ -39,8 +39,9 @@ pub(super) trait Simd: Copy {
     fn mul(self, a: Self::V, b: Self::V) -> Self::V;
     /// `a * b + c` (fused where the backend has FMA).
     fn mul_add(self, a: Self::V, b: Self::V, c: Self::V) -> Self::V;
-    /// `a * b - c` (fused where the backend has FMA).
-    fn mul_sub(self, a: Self::V, b: Self::V, c: Self::V) -> Self::V;
+    /// `c - a * b` (fused where the backend has FMA). NEON has this one as a single
+    /// instruction (`fmls`) but not `a * b - c`, which cost it a negation per complex product.
+    fn neg_mul_add(self, a: Self::V, b: Self::V, c: Self::V) -> Self::V;
     /// LANES vectors: a LANES×LANES block of f32, one row per vector.
     type Block: Copy + AsRef<[Self::V]> + AsMut<[Self::V]>;
     /// A block of zeros.
@@ -66,7 +67,7 @@ struct Tw<V> {
 #[inline(always)]
 fn cmul<S: Simd>(s: S, a: C<S::V>, w: Tw<S::V>) -> C<S::V> {
     C {
-        re: s.mul_sub(a.re, w.re, s.mul(a.im, w.im)),
+        re: s.neg_mul_add(a.im, w.im, s.mul(a.re, w.re)),
         im: s.mul_add(a.re, w.im, s.mul(a.im, w.re)),
     }
 }

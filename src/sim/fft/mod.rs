@@ -417,10 +417,14 @@ fn pass_job<'a>(
 }
 
 /// Calls `f` with a zeroed stack working buffer of `n` rows (128 bytes each), sized in tiers so
-/// small grids don't pay for clearing the 128 KiB a 1024 grid needs.
+/// small grids don't pay for clearing the 128 KiB a 1024 grid needs (a tier per size from 128:
+/// a 128 grid cleared 32 KiB per task for its 16).
 fn with_local<R>(n: usize, f: impl FnOnce(&mut [CRow]) -> R) -> R {
     if n <= 64 {
         let mut buf = [CRow::ZERO; 64];
+        f(&mut buf[..n])
+    } else if n <= 128 {
+        let mut buf = [CRow::ZERO; 128];
         f(&mut buf[..n])
     } else if n <= 256 {
         let mut buf = [CRow::ZERO; 256];

@@ -58,9 +58,9 @@ impl Simd for Neon {
         unsafe { vfmaq_f32(c, a, b) }
     }
     #[inline(always)]
-    fn mul_sub(self, a: float32x4_t, b: float32x4_t, c: float32x4_t) -> float32x4_t {
-        // a*b - c = -(c - a*b), fused.
-        unsafe { vnegq_f32(vfmsq_f32(c, a, b)) }
+    fn neg_mul_add(self, a: float32x4_t, b: float32x4_t, c: float32x4_t) -> float32x4_t {
+        // c - a*b, fused: one `fmls`.
+        unsafe { vfmsq_f32(c, a, b) }
     }
     type Block = [float32x4_t; 4];
     #[inline(always)]

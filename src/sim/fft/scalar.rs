@@ -41,8 +41,8 @@ impl Simd for Scalar {
         self.add(self.mul(a, b), c)
     }
     #[inline(always)]
-    fn mul_sub(self, a: [f32; 4], b: [f32; 4], c: [f32; 4]) -> [f32; 4] {
-        self.sub(self.mul(a, b), c)
+    fn neg_mul_add(self, a: [f32; 4], b: [f32; 4], c: [f32; 4]) -> [f32; 4] {
+        self.sub(c, self.mul(a, b))
     }
     type Block = [[f32; 4]; 4];
     #[inline(always)]

@@ -62,8 +62,8 @@ impl Simd for Sse2 {
         unsafe { _mm_add_ps(_mm_mul_ps(a, b), c) }
     }
     #[inline(always)]
-    fn mul_sub(self, a: __m128, b: __m128, c: __m128) -> __m128 {
-        unsafe { _mm_sub_ps(_mm_mul_ps(a, b), c) }
+    fn neg_mul_add(self, a: __m128, b: __m128, c: __m128) -> __m128 {
+        unsafe { _mm_sub_ps(c, _mm_mul_ps(a, b)) }
     }
     type Block = [__m128; 4];
     #[inline(always)]
@@ -138,8 +138,8 @@ impl Simd for Avx2 {
         unsafe { _mm256_fmadd_ps(a, b, c) }
     }
     #[inline(always)]
-    fn mul_sub(self, a: __m256, b: __m256, c: __m256) -> __m256 {
-        unsafe { _mm256_fmsub_ps(a, b, c) }
+    fn neg_mul_add(self, a: __m256, b: __m256, c: __m256) -> __m256 {
+        unsafe { _mm256_fnmadd_ps(a, b, c) }
     }
     type Block = [__m256; 8];
     #[inline(always)]
@@ -231,8 +231,8 @@ impl Simd for Avx512 {
         unsafe { _mm512_fmadd_ps(a, b, c) }
     }
     #[inline(always)]
-    fn mul_sub(self, a: __m512, b: __m512, c: __m512) -> __m512 {
-        unsafe { _mm512_fmsub_ps(a, b, c) }
+    fn neg_mul_add(self, a: __m512, b: __m512, c: __m512) -> __m512 {
+        unsafe { _mm512_fnmadd_ps(a, b, c) }
     }
     type Block = [__m512; 16];
     #[inline(always)]
