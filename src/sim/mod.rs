@@ -28,6 +28,7 @@
 //! [`SimCore`] owns every buffer; [`Simulation`] runs its worker as one long-lived job in its
 //! Rayon pool and hands the two [`Surfaces`] back and forth through a mutex/condvar slot.
 
+mod cascade;
 pub mod dispersion;
 pub mod evolve;
 pub mod fft;

@@ -5,13 +5,14 @@ use std::sync::{Arc, Condvar, Mutex};
 use std::time::{Duration, Instant};
 
 use crate::base::ParamError;
-use crate::sim::evolve::{self, LoopPhase};
+use crate::sim::cascade::{CascadeSim, StepAt};
+use crate::sim::evolve::LoopPhase;
 use crate::sim::fft::Fft2d;
-use crate::sim::grid::{AlignedBuf, GridSize, SplitField};
-use crate::sim::params::{Derivatives, OceanConfig, WaveParams};
+use crate::sim::grid::{GridSize, SplitField};
+use crate::sim::params::{OceanConfig, WaveParams};
 use crate::sim::query;
 use crate::sim::spectrum::{cascade_bands, CascadeSpec, PackedSpectrum};
-use crate::sim::surface::{self, CascadeSurface, FloatCopies, SurfaceParams, Transformed};
+use crate::sim::surface::{CascadeSurface, FloatCopies, SurfaceParams};
 use crate::sim::whitecaps::{WhitecapInput, WhitecapState, Whitecaps};
 
 /// One step's output for every cascade, coarsest first.
@@ -102,49 +103,6 @@ impl StageTimes {
     }
 }
 
-/// One cascade's FFT work buffers, as many as its derivative mode transforms.
-enum Fields {
-    Spectral(Box<[SplitField; 4]>),
-    Finite(Box<[SplitField; 2]>),
-}
-
-impl Fields {
-    fn new(mode: Derivatives, grid: GridSize) -> Fields {
-        match mode {
-            Derivatives::Spectral => {
-                Fields::Spectral(Box::new(std::array::from_fn(|_| SplitField::zeros(grid))))
-            }
-            Derivatives::Finite => {
-                Fields::Finite(Box::new(std::array::from_fn(|_| SplitField::zeros(grid))))
-            }
-        }
-    }
-
-    /// Every field, for the FFT.
-    fn all(&mut self) -> &mut [SplitField] {
-        match self {
-            Fields::Spectral(f) => &mut f[..],
-            Fields::Finite(f) => &mut f[..],
-        }
-    }
-
-    /// The transformed fields for the surface stage.
-    fn transformed(&self) -> Transformed<'_> {
-        match self {
-            Fields::Spectral(f) => Transformed::Spectral(f),
-            Fields::Finite(f) => Transformed::Finite(f),
-        }
-    }
-}
-
-/// One cascade's private state: its packed spectrum, FFT work buffers and persistent foam.
-struct CascadeSim {
-    spec: CascadeSpec,
-    spectrum: PackedSpectrum,
-    fields: Fields,
-    foam: AlignedBuf,
-}
-
 /// FFT scratch fields: two up to N = 256, so the four transforms go in two groups of two and a
 /// step has four fork-joins in its FFT instead of eight (fields and scratch, 3 MB, still fit
 /// the shared cache); one from N = 512, where a second field's working set evicts the first's.
@@ -198,12 +156,7 @@ impl SimCore {
                     band,
                     grid,
                 };
-                CascadeSim {
-                    spectrum: PackedSpectrum::generate(&config.waves, &spec),
-                    spec,
-                    fields: Fields::new(config.derivatives, grid),
-                    foam: AlignedBuf::zeros(grid.texels()),
-                }
+                CascadeSim::new(spec, &config.waves, config.derivatives)
             })
             .collect();
         Ok(Self {
@@ -307,22 +260,8 @@ impl SimCore {
         out.significant_height = 4.0 * variance.sqrt() as f32;
         let mut times = StageTimes::default();
         for (c, surface) in self.cascades.iter_mut().zip(&mut out.cascades) {
-            surface.patch = c.spec.patch;
-            let t0 = Instant::now();
-            match &mut c.fields {
-                Fields::Spectral(f) => evolve::evolve(&c.spectrum, c.spec.patch, phase, f),
-                Fields::Finite(f) => evolve::evolve_finite(&c.spectrum, c.spec.patch, phase, f),
-            }
-            let t1 = Instant::now();
-            let fields = c.fields.all();
-            let groups = self.scratch.len().min(fields.len());
-            self.fft.inverse_batch(fields, &mut self.scratch[..groups]);
-            let t2 = Instant::now();
-            surface::finalize(c.fields.transformed(), &mut c.foam, params, t, surface);
-            let t3 = Instant::now();
-            times.evolve += t1 - t0;
-            times.fft += t2 - t1;
-            times.surface += t3 - t2;
+            let at = StepAt { t, phase, params };
+            c.step(&self.fft, &mut self.scratch, at, surface, &mut times);
         }
         let t4 = Instant::now();
         let input = WhitecapInput {

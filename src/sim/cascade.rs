@@ -1,0 +1,108 @@
+//! One cascade's private state and its stages 2-6 (thesis Table 1): the packed spectrum, the FFT
+//! work buffers its derivative mode needs ([`Derivatives`]) and its persistent foam.
+//! [`crate::sim::SimCore`] owns one per cascade and shares the FFT plan and scratch among them.
+
+use std::time::Instant;
+
+use crate::sim::evolve::{self, LoopPhase};
+use crate::sim::fft::Fft2d;
+use crate::sim::grid::{AlignedBuf, GridSize, SplitField};
+use crate::sim::params::Derivatives;
+use crate::sim::spectrum::{CascadeSpec, PackedSpectrum};
+use crate::sim::step::StageTimes;
+use crate::sim::surface::{self, CascadeSurface, SurfaceParams, Transformed};
+
+/// One cascade's FFT work buffers, as many as its derivative mode transforms.
+enum Fields {
+    Spectral(Box<[SplitField; 4]>),
+    Finite(Box<[SplitField; 2]>),
+}
+
+impl Fields {
+    fn new(mode: Derivatives, grid: GridSize) -> Fields {
+        match mode {
+            Derivatives::Spectral => {
+                Fields::Spectral(Box::new(std::array::from_fn(|_| SplitField::zeros(grid))))
+            }
+            Derivatives::Finite => {
+                Fields::Finite(Box::new(std::array::from_fn(|_| SplitField::zeros(grid))))
+            }
+        }
+    }
+
+    /// Every field, for the FFT.
+    fn all(&mut self) -> &mut [SplitField] {
+        match self {
+            Fields::Spectral(f) => &mut f[..],
+            Fields::Finite(f) => &mut f[..],
+        }
+    }
+
+    /// The transformed fields for the surface stage.
+    fn transformed(&self) -> Transformed<'_> {
+        match self {
+            Fields::Spectral(f) => Transformed::Spectral(f),
+            Fields::Finite(f) => Transformed::Finite(f),
+        }
+    }
+}
+
+/// What every cascade's stages 2-6 share in one step.
+#[derive(Clone, Copy)]
+pub(super) struct StepAt {
+    /// Simulation time (s).
+    pub t: f64,
+    /// Its loop phase (eq. 24).
+    pub phase: LoopPhase,
+    /// Choppiness, roughness, foam and the time since the last step.
+    pub params: SurfaceParams,
+}
+
+/// One cascade's private state: its packed spectrum, FFT work buffers and persistent foam.
+pub(super) struct CascadeSim {
+    pub spec: CascadeSpec,
+    pub spectrum: PackedSpectrum,
+    fields: Fields,
+    foam: AlignedBuf,
+}
+
+impl CascadeSim {
+    /// Runs stage 1 for `spec` and allocates the buffers of derivative mode `mode`.
+    pub fn new(spec: CascadeSpec, waves: &crate::sim::WaveParams, mode: Derivatives) -> CascadeSim {
+        CascadeSim {
+            spectrum: PackedSpectrum::generate(waves, &spec),
+            fields: Fields::new(mode, spec.grid),
+            foam: AlignedBuf::zeros(spec.grid.texels()),
+            spec,
+        }
+    }
+
+    /// Stages 2-6 at `at` into `out`, adding their wall times to `times`. `scratch` holds 1 or
+    /// more FFT scratch fields (see `Fft2d::inverse_batch`).
+    pub fn step(
+        &mut self,
+        fft: &Fft2d,
+        scratch: &mut [SplitField],
+        at: StepAt,
+        out: &mut CascadeSurface,
+        times: &mut StageTimes,
+    ) {
+        let StepAt { t, phase, params } = at;
+        out.patch = self.spec.patch;
+        let t0 = Instant::now();
+        match &mut self.fields {
+            Fields::Spectral(f) => evolve::evolve(&self.spectrum, self.spec.patch, phase, f),
+            Fields::Finite(f) => evolve::evolve_finite(&self.spectrum, self.spec.patch, phase, f),
+        }
+        let t1 = Instant::now();
+        let fields = self.fields.all();
+        let groups = scratch.len().min(fields.len());
+        fft.inverse_batch(fields, &mut scratch[..groups]);
+        let t2 = Instant::now();
+        surface::finalize(self.fields.transformed(), &mut self.foam, params, t, out);
+        let t3 = Instant::now();
+        times.evolve += t1 - t0;
+        times.fft += t2 - t1;
+        times.surface += t3 - t2;
+    }
+}
