@@ -190,12 +190,14 @@ const STEPS: &[Step] = &[
     },
     Step {
         name: "test (aarch64/qemu)",
-        header: "CROSS: sim unit tests and sim_physics for aarch64-unknown-linux-gnu (NEON path) under qemu-aarch64-static",
+        header: "CROSS: sim unit tests, sim_physics and sim_derivatives for aarch64-unknown-linux-gnu (NEON path, both derivative modes) under qemu-aarch64-static",
         cargo_args: &[
             "test",
             "--lib",
             "--test",
             "sim_physics",
+            "--test",
+            "sim_derivatives",
             "--target",
             CROSS_TARGET,
         ],
@@ -227,7 +229,8 @@ commands:
           cargo test --test openxr_monado --test openxr_no_alloc -- --ignored --nocapture
               --test-threads=1 (needs root: first makes sure the Monado root exists, see monado-root,
               and passes its path in VR_OCEAN_MONADO_ROOT)
-          cargo test --lib --test sim_physics --target aarch64-unknown-linux-gnu   (qemu)
+          cargo test --lib --test sim_physics --test sim_derivatives
+              --target aarch64-unknown-linux-gnu   (qemu)
           cargo xtask apk-check
         --quick      skip the slow steps (frame times, Monado, APK, aarch64)
         --no-setup   install nothing; only run the checks
