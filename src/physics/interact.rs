@@ -3,7 +3,8 @@
 //!
 //! A held body stays dynamic and is *velocity-driven*: every fixed step its velocity is set to
 //! reach its target pose (the hand's pose times the grip offset taken at the grab) in one step,
-//! capped at [`MAX_HOLD_SPEED`] and [`MAX_HOLD_SPIN`]; gravity and the water leave it alone.
+//! capped at [`MAX_HOLD_SPEED`](crate::physics::hands::MAX_HOLD_SPEED) and
+//! [`MAX_HOLD_SPIN`](crate::physics::hands::MAX_HOLD_SPIN); gravity and the water leave it alone.
 //! Unlike a kinematic body it still collides as a body with mass: it pushes other bodies
 //! and stops at the deck instead of passing through, and the hand's pose is only a target.
 

@@ -88,7 +88,8 @@ impl Surfaces {
 pub struct StageTimes {
     /// Stage 2: time evolution and packing of the derivative spectra.
     pub evolve: Duration,
-    /// Stages 3-4: the inverse 2D FFTs (four per cascade, two with [`Derivatives::Finite`]).
+    /// Stages 3-4: the inverse 2D FFTs (four per cascade, two with
+    /// [`Derivatives::Finite`](crate::sim::Derivatives::Finite)).
     pub fft: Duration,
     /// Stages 5-6+: displacement, normals, Jacobian, foam, packing and mips.
     pub surface: Duration,

@@ -10,7 +10,7 @@
 //! 0.0722 B. [`exposure`] turns them into the ~[0, 1] range a tonemapper expects.
 //!
 //! - [`preetham`]: [`Sky`], the sky's radiance and the sun's, precomputed per [`SunSky`].
-//! - [`bake`]: [`EnvMap`], its (u, v) mapping and the GGX prefilter.
+//! - [`bake`](mod@bake): [`EnvMap`], its (u, v) mapping and the GGX prefilter.
 
 pub mod bake;
 pub mod preetham;
@@ -153,8 +153,8 @@ fn direction_at(elevation_deg: f32, azimuth_deg: f32) -> Vec3 {
 }
 
 /// Suggested EV100 for the scene: a reflected-light reading of its mean luminance
-/// ([`scene_luminance`]), EV100 = log2(L[cd/m²] · S / K), held within [`METER_RANGE_EV`] of an
-/// incident-light reading of the horizontal illuminance of sun plus sky (log2(E[lux] · S / C),
+/// ([`scene_luminance`]), EV100 = log2(L · S / K) with L in cd/m², held within 2 stops of an
+/// incident-light reading of the horizontal illuminance of sun plus sky (log2(E · S / C), E in lux,
 /// C = 250: sun 60° high at T = 2.5, E ≈ 110 klux, EV100 ≈ 15.4, the "sunny 16" value), not
 /// below [`EV100_MIN`].
 pub fn ev100(sky: &Sky) -> f32 {
