@@ -75,7 +75,7 @@ fn unwritable_output_is_a_clear_error() {
 
 #[test]
 fn simulate_runs_and_reports() {
-    let out = vr_ocean(&[
+    let out = run_ok(&[
         "simulate",
         "--grid",
         "32",
@@ -84,11 +84,6 @@ fn simulate_runs_and_reports() {
         "--threads",
         "2",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("Hs"), "{text}");
 }
@@ -99,7 +94,7 @@ fn the_derivative_mode_is_chosen_on_the_command_line() {
     // heights, normals a little apart (the flag took effect, and did nothing wild).
     let export = |mode: &str| {
         let dir = scratch_dir(&format!("derivatives-{mode}"));
-        let out = vr_ocean(&[
+        run_ok(&[
             "export",
             "--grid",
             "32",
@@ -112,11 +107,6 @@ fn the_derivative_mode_is_chosen_on_the_command_line() {
             "--out",
             dir.to_str().unwrap(),
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
         (
             read_npy(&dir.join("t2.000_height.npy")).1,
             read_npy(&dir.join("t2.000_normals.npy")).1,
@@ -130,7 +120,7 @@ fn the_derivative_mode_is_chosen_on_the_command_line() {
         .map(|(a, b)| (a - b).abs())
         .fold(0.0f32, f32::max);
     assert!(dh < 1e-5, "heights differ by {dh} m");
-    let angles: Vec<f32> = n_s
+    let worst = n_s
         .chunks(3)
         .zip(n_f.chunks(3))
         .map(|(a, b)| {
@@ -139,12 +129,22 @@ fn the_derivative_mode_is_chosen_on_the_command_line() {
                 .acos()
                 .to_degrees()
         })
-        .collect();
-    let worst = angles.iter().copied().fold(0.0f32, f32::max);
+        .fold(0.0f32, f32::max);
     assert!(
         worst > 0.01 && worst < 20.0,
         "normals {worst} deg apart at most"
     );
+}
+
+/// Runs `vr-ocean` with `args` and asserts it succeeded (its stderr as the message).
+fn run_ok(args: &[&str]) -> std::process::Output {
+    let out = vr_ocean(args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
 }
 
 fn read_npy(path: &std::path::Path) -> (Vec<u64>, Vec<f32>) {
@@ -157,7 +157,7 @@ fn read_npy(path: &std::path::Path) -> (Vec<u64>, Vec<f32>) {
 #[test]
 fn export_writes_npy_and_exr_that_read_back() {
     let dir = scratch_dir("export");
-    let out = vr_ocean(&[
+    run_ok(&[
         "export",
         "--grid",
         "32",
@@ -170,11 +170,6 @@ fn export_writes_npy_and_exr_that_read_back() {
         "--out",
         dir.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     for t in ["t0.000", "t1.500"] {
         let (shape, h) = read_npy(&dir.join(format!("{t}_height.npy")));
         assert_eq!(shape, vec![32, 32]);

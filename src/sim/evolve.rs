@@ -12,9 +12,10 @@
 //!
 //! Each field's spectrum is Hermitian, so packing A + i·B into one transform yields A and B as
 //! the real and imaginary outputs. With [`Derivatives::Finite`](crate::sim::Derivatives) only
-//! the first column's fields are made, two transforms: h + i·X and Z + i·0 ([`evolve_finite`]);
-//! the surface stage takes the slopes by central differences. The horizontal displacement is D = +λ·(X, Z): for a wave
-//! h = a·cos θ, X = −a·uₓ·sin θ, so points move toward the crest (x' = x − λ·a·sin θ, the
+//! h, X and Z are made, in two transforms: h + i·X and Z + i·0 ([`evolve_finite`]); the
+//! surface stage takes the slopes by central differences.
+//!
+//! The horizontal displacement is D = +λ·(X, Z): for a wave h = a·cos θ, X = −a·uₓ·sin θ, so points move toward the crest (x' = x − λ·a·sin θ, the
 //! Gerstner trochoid: sharp crests, flat troughs, J < 1 on crests). The thesis's eq. 25 and 44
 //! each carry a minus sign; applied together with this table's X they would pull points away
 //! from crests, which folds the sea in its troughs.
@@ -112,6 +113,23 @@ fn packed_pair(hr: f32, hi: f32, ux: f32, uz: f32, kx: f32, kz: f32) -> ([f32; 8
             (-kz * ux * hr, -kz * ux * hi),
         ), // ∂Z/∂z, ∂X/∂z
     ];
+    pack(pairs)
+}
+
+/// [`packed_pair`] for the finite-difference mode: fields h + i·X and Z + i·0 in the first
+/// four floats (the rest zero).
+#[inline(always)]
+fn packed_pair_finite(hr: f32, hi: f32, ux: f32, uz: f32) -> ([f32; 8], [f32; 8]) {
+    pack([
+        ((hr, hi), (-ux * hi, ux * hr)),   // h, X
+        ((-uz * hi, uz * hr), (0.0, 0.0)), // Z, nothing
+    ])
+}
+
+/// C(k) and C(−k) of fields A + i·B from their (Ã, B̃) at k (see [`packed_pair`]), field f in
+/// floats 2f and 2f + 1; floats past the fields stay zero.
+#[inline(always)]
+fn pack<const F: usize>(pairs: [((f32, f32), (f32, f32)); F]) -> ([f32; 8], [f32; 8]) {
     let mut at = [0.0; 8];
     let mut mirror = [0.0; 8];
     for (f, ((ar, ai), (br, bi))) in pairs.into_iter().enumerate() {
@@ -121,18 +139,6 @@ fn packed_pair(hr: f32, hi: f32, ux: f32, uz: f32, kx: f32, kz: f32) -> ([f32; 8
         mirror[2 * f + 1] = br - ai;
     }
     (at, mirror)
-}
-
-/// [`packed_pair`] for the finite-difference mode: fields h + i·X and Z + i·0 in the first
-/// four floats (the rest zero).
-#[inline(always)]
-fn packed_pair_finite(hr: f32, hi: f32, ux: f32, uz: f32) -> ([f32; 8], [f32; 8]) {
-    let (xr, xi) = (-ux * hi, ux * hr);
-    let (zr, zi) = (-uz * hi, uz * hr);
-    (
-        [hr - xi, hi + xr, zr, zi, 0.0, 0.0, 0.0, 0.0],
-        [hr + xi, xr - hi, zr, -zi, 0.0, 0.0, 0.0, 0.0],
-    )
 }
 
 /// Inputs and constants shared by the rows of one step.

@@ -136,21 +136,6 @@ pub enum Derivatives {
     Finite,
 }
 
-impl Derivatives {
-    /// Complex transforms per cascade and step.
-    pub fn transforms(self) -> usize {
-        match self {
-            Derivatives::Spectral => 4,
-            Derivatives::Finite => 2,
-        }
-    }
-
-    /// The default of this target: see [`DEFAULT_DERIVATIVES`].
-    pub fn default_for_target() -> Derivatives {
-        DEFAULT_DERIVATIVES
-    }
-}
-
 impl std::fmt::Display for Derivatives {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {
@@ -202,7 +187,7 @@ impl OceanConfig {
             patch_fit: PatchFit::Fixed,
             waves: WaveParams::default(),
             whitecaps: true,
-            derivatives: Derivatives::default_for_target(),
+            derivatives: DEFAULT_DERIVATIVES,
         };
         cfg.validate()?;
         Ok(cfg)
@@ -219,7 +204,7 @@ impl OceanConfig {
             },
             waves: WaveParams::default(),
             whitecaps: true,
-            derivatives: Derivatives::default_for_target(),
+            derivatives: DEFAULT_DERIVATIVES,
         };
         cfg.fit_patches();
         cfg.validate()?;
