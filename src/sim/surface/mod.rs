@@ -7,14 +7,16 @@
 //! # Formats
 //! [`CascadeSurface::displacement_f16`] is RGBA16F (Dx, h, Dz, J); `normal_foam` is RGBA8
 //! (n.x, n.z, foam, smoothness) with mips at the offsets of eq. 55. Foam replaces eq. 50's raw
-//! Jacobian in B (J stays in the displacement's alpha). RGBA16F comes from `pack::f16_bits`
-//! (round to nearest even, bit-identical to F16C, NEON and `half`) inside the row loop.
+//! Jacobian in B (J stays in the displacement's alpha). RGBA16F is converted from the row's f32
+//! planes by F16C or NEON where present, else `pack::f16_bits`: round to nearest even, the
+//! same bits on every path ([`f16_row`]).
 //!
 //! # Float copies on request
 //! `Surfaces::new` (the renderer's) keeps only the GPU formats plus float mips from level 1;
 //! `Surfaces::with_float_copies` (export, checks) also keeps the f32 displacement and level-0
-//! normals and foam. Level-0 floats are made as planes in a stack buffer per task, one row pair
-//! at a time (mip 1 is averaged there); the f32 copies are interleaved from it only when kept.
+//! normals and foam. Level-0 floats and the displacement are made as planes in a stack buffer
+//! per task, one row pair at a time (mip 1 is averaged there, RGBA16F converted from there);
+//! the f32 copies are interleaved from it only when kept.
 //! Height queries read the f32 copy when present, else the RGBA16F (within 1 cm, tested).
 //!
 //! # Kernel outputs are arguments
@@ -28,9 +30,11 @@ use crate::sim::grid::{GridSize, SplitField};
 use crate::sim::pack;
 use crate::sim::params::FoamParams;
 
+mod f16_row;
 mod mips;
 mod row;
 
+use self::f16_row::interleave_f16;
 use self::mips::{build_mips, mip_planes};
 use self::row::{
     plane_row, surface_row, Finite, RowIn, RowOut, RowSource, Spectral, SurfaceConsts,
@@ -205,16 +209,15 @@ pub fn finalize(
         inv_2dx: n as f32 / (2.0 * out.patch),
     };
     // Rows go in pairs so mip level 1 is averaged while both source rows are still in cache.
-    // Level-0 floats (and the f32 displacement) live in a per-task stack buffer as planes,
-    // copied out only when the surface keeps float copies. Each task runs several pairs with
-    // one buffer, cleared once.
+    // Level-0 floats and the f32 displacement live in a per-task stack buffer as planes: the
+    // displacement's RGBA16F is converted from there, and both are copied out only when the
+    // surface keeps float copies. Each task runs several pairs with one buffer, cleared once.
     let side1 = n / 2;
     let l1 = out.floats_offset(1);
     let (level0_floats, level1_floats) = out.normal_floats.split_at_mut(l1);
     let level1_floats = &mut level1_floats[..side1 * side1];
     let (level0_rgba, rest) = out.normal_foam.split_at_mut(n * n);
     let level1_rgba = &mut rest[..side1 * side1];
-    let keep = out.base == FloatCopies::Keep;
     let process_pair = |pair: usize, p: Pair<'_>, buf: &mut [f32]| {
         // Plane q of row i of the pair at (2q + i)·n: floats, then (kept) displacement.
         let (floats, disp) = buf.split_at_mut(8 * n);
@@ -225,12 +228,8 @@ pub fn finalize(
         });
         let mut dl = disp.chunks_exact_mut(n);
         let mut dl: [[&mut [f32]; 2]; 4] = std::array::from_fn(|_| {
-            if keep {
-                let a = dl.next().expect("8 rows");
-                [a, dl.next().expect("8 rows")]
-            } else {
-                [&mut [][..], &mut [][..]]
-            }
+            let a = dl.next().expect("8 rows");
+            [a, dl.next().expect("8 rows")]
         });
         let disp16 = bytemuck::cast_slice_mut::<[f16; 4], [u16; 4]>(p.disp16);
         let rows = disp16
@@ -248,7 +247,6 @@ pub fn finalize(
                 k,
             };
             let out = RowOut {
-                disp16,
                 floats: [&mut *p0[i], &mut *p1[i], &mut *p2[i], &mut *p3[i]],
                 disp: [&mut *d0[i], &mut *d1[i], &mut *d2[i], &mut *d3[i]],
                 rgba,
@@ -256,6 +254,7 @@ pub fn finalize(
                 max: rmax,
             };
             surface_row(input, out);
+            interleave_f16([&*d0[i], &*d1[i], &*d2[i], &*d3[i]], disp16);
         }
         let [p0, p1, p2, p3] = &fl;
         mip_planes(
@@ -280,7 +279,7 @@ pub fn finalize(
     let tasks = (4 * rayon::current_num_threads()).min(pairs);
     let per_task = pairs.div_ceil(tasks);
     let task = |t: usize, chunk: Pair<'_>| {
-        with_pair_buffer(n, keep, |buf| {
+        with_pair_buffer(n, |buf| {
             for (i, p) in chunk.split(n, side1).enumerate() {
                 process_pair(t * per_task + i, p, buf);
             }
@@ -334,11 +333,11 @@ pub fn finalize(
 #[repr(C, align(64))]
 struct Line([f32; 16]);
 
-/// Runs `f` on a zeroed stack buffer for one row pair: 8 planes of `n` floats (level-0
-/// normals and foam of both rows), 16 with `keep` (also the f32 displacement). Sized in tiers
-/// so small grids don't clear more than they use; called once per task, not per pair.
-fn with_pair_buffer<R>(n: usize, keep: bool, f: impl FnOnce(&mut [f32]) -> R) -> R {
-    let len = if keep { 16 * n } else { 8 * n };
+/// Runs `f` on a zeroed stack buffer for one row pair: 16 planes of `n` floats (level-0
+/// normals and foam, then the displacement, of both rows). Sized in tiers so small grids don't
+/// clear more than they use; called once per task, not per pair.
+fn with_pair_buffer<R>(n: usize, f: impl FnOnce(&mut [f32]) -> R) -> R {
+    let len = 16 * n;
     if n <= 64 {
         f(&mut bytemuck::cast_slice_mut(&mut [Line([0.0; 16]); 64])[..len])
     } else if n <= 256 {

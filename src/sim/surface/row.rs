@@ -1,10 +1,23 @@
 //! One texel row of stages 5-6: displacement (eq. 42-44), the Jacobian (eq. 48), normals of
-//! the displaced surface (eq. 47), persistent foam, and the RGBA16F/RGBA8 encodings, in one
-//! vectorized loop per row behind runtime ISA dispatch.
+//! the displaced surface (eq. 47), persistent foam and the RGBA8 encoding, in one vectorized
+//! loop per row behind runtime ISA dispatch (the RGBA16F displacement is converted from its
+//! planes afterwards, see [`super::f16_row`]).
 
-use crate::sim::grid::SplitField;
+use crate::sim::grid::{GridSize, SplitField};
 use crate::sim::pack;
 use crate::sim::simd::dispatch;
+
+/// (−1)^col for every column of the largest grid: the centred spectrum's sign (eq. 42-43) as
+/// a load, so the row loop keeps no vector of 64-bit column indices to derive it from.
+static ALTERNATING: [f32; GridSize::MAX as usize] = {
+    let mut s = [1.0; GridSize::MAX as usize];
+    let mut i = 1;
+    while i < s.len() {
+        s[i] = -1.0;
+        i += 2;
+    }
+    s
+};
 
 /// Constants of the surface stage for one step.
 #[derive(Clone, Copy)]
@@ -160,11 +173,10 @@ pub(super) struct RowIn<S> {
 
 /// What one row of the surface stage writes.
 pub(super) struct RowOut<'a> {
-    /// RGBA16F displacement as binary16 bits.
-    pub disp16: &'a mut [[u16; 4]],
     /// Level-0 roughness-scaled normal x, y, z and foam, one plane each (mip level 1 reads them).
     pub floats: [&'a mut [f32]; 4],
-    /// f32 Dx, h, Dz, J planes when the surface keeps float copies; else empty.
+    /// Dx, h, Dz, J, one plane each (converted to RGBA16F, and kept when the surface keeps
+    /// float copies).
     pub disp: [&'a mut [f32]; 4],
     pub rgba: &'a mut [u32],
     pub foam: &'a mut [f32],
@@ -173,14 +185,13 @@ pub(super) struct RowOut<'a> {
 }
 
 /// One texel row of stages 5-6. Every output is a plane or a plain integer array, so the loop
-/// vectorizes with no shuffles but the RGBA16F interleave. The outputs are separate arguments:
+/// vectorizes with no shuffles. The outputs are separate arguments:
 /// only those carry `noalias` (struct fields do not), and without it LLVM guards the loop with
 /// pairwise overlap checks of all eleven outputs, which cost more than a 256-texel row.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn surface_row_kernel<S: Source, const KEEP: bool>(
+fn surface_row_kernel<S: Source>(
     row: RowIn<S>,
-    disp16: &mut [[u16; 4]],
     p0: &mut [f32],
     p1: &mut [f32],
     p2: &mut [f32],
@@ -196,19 +207,13 @@ fn surface_row_kernel<S: Source, const KEEP: bool>(
     let n = rgba.len();
     // Exact-length slices let the compiler drop bounds checks and vectorize.
     let src = row.src.fit(n);
-    let (foam, disp16) = (&mut foam[..n], &mut disp16[..n]);
+    let foam = &mut foam[..n];
     let (p0, p1, p2, p3) = (&mut p0[..n], &mut p1[..n], &mut p2[..n], &mut p3[..n]);
-    let m = if KEEP { n } else { 0 };
-    let (d0, d1, d2, d3) = (&mut d0[..m], &mut d1[..m], &mut d2[..m], &mut d3[..m]);
+    let (d0, d1, d2, d3) = (&mut d0[..n], &mut d1[..n], &mut d2[..n], &mut d3[..n]);
     let k = row.k;
-    // (−1)^(x+y) undoes the centred spectrum (eq. 42-43).
-    let sign = |col: usize| {
-        if col & 1 == 0 {
-            row.row_sign
-        } else {
-            -row.row_sign
-        }
-    };
+    // (−1)^(x+y) undoes the centred spectrum (eq. 42-43); ±1 times the row's sign is exact.
+    let alternating = &ALTERNATING[..n];
+    let sign = |col: usize| row.row_sign * alternating[col];
     // Maxima of |Dx|, |h|, |Dz| as the bits of non-negative floats, whose integer order is
     // their numeric order: an integer max reduction vectorizes, a float one does not.
     let mut mx = [0u32; 3];
@@ -245,15 +250,7 @@ fn surface_row_kernel<S: Source, const KEEP: bool>(
         let (nx, ny, nz) = (nx * inv, if ok { ny * inv } else { 1.0 }, nz * inv);
         let f = (foam[col] * k.keep + k.grow * (k.threshold - j).max(0.0)).min(1.0);
         foam[col] = f;
-        disp16[col] = [
-            pack::f16_bits(dx),
-            pack::f16_bits(h),
-            pack::f16_bits(dz),
-            pack::f16_bits(j),
-        ];
-        if KEEP {
-            (d0[col], d1[col], d2[col], d3[col]) = (dx, h, dz, j);
-        }
+        (d0[col], d1[col], d2[col], d3[col]) = (dx, h, dz, j);
         (p0[col], p1[col], p2[col], p3[col]) = (nx * k.len, ny * k.len, nz * k.len, f);
         rgba[col] = pack::pack_rgba8(nx, nz, f, k.smooth);
         let abs_bits = |v: f32| v.to_bits() & 0x7fff_ffff;
@@ -279,13 +276,12 @@ fn surface_row_kernel<S: Source, const KEEP: bool>(
 }
 
 macro_rules! surface_variant {
-    ($(#[$m:meta])* $name:ident, $src:ident, $keep:literal) => {
+    ($(#[$m:meta])* $name:ident, $src:ident) => {
         dispatch!(
             $(#[$m])*
             #[allow(clippy::too_many_arguments)]
             fn $name(
                 row: RowIn<$src<'_>>,
-                disp16: &mut [[u16; 4]],
                 p0: &mut [f32],
                 p1: &mut [f32],
                 p2: &mut [f32],
@@ -297,33 +293,19 @@ macro_rules! surface_variant {
                 rgba: &mut [u32],
                 foam: &mut [f32],
                 max: &mut [f32; 3],
-            ) => surface_row_kernel::<$src<'_>, $keep>
+            ) => surface_row_kernel::<$src<'_>>
         );
     };
 }
 surface_variant!(
-    /// [`surface_row_kernel`] behind runtime ISA dispatch.
-    surface_row_skip,
-    Spectral,
-    false
+    /// [`surface_row_kernel`] from spectral derivatives, behind runtime ISA dispatch.
+    surface_row_spectral,
+    Spectral
 );
 surface_variant!(
-    /// [`surface_row_kernel`] that also writes the f32 displacement, behind ISA dispatch.
-    surface_row_keep,
-    Spectral,
-    true
-);
-surface_variant!(
-    /// [`surface_row_skip`] by central differences.
-    surface_row_skip_finite,
-    Finite,
-    false
-);
-surface_variant!(
-    /// [`surface_row_keep`] by central differences.
-    surface_row_keep_finite,
-    Finite,
-    true
+    /// [`surface_row_kernel`] by central differences, behind runtime ISA dispatch.
+    surface_row_finite,
+    Finite
 );
 
 /// One row's source in either derivative mode.
@@ -333,10 +315,9 @@ pub(super) enum RowSource<'a> {
     Finite(Finite<'a>),
 }
 
-/// Runs one row of the surface stage (writing `out.disp` when it is not empty).
+/// Runs one row of the surface stage.
 pub(super) fn surface_row(row: RowIn<RowSource<'_>>, out: RowOut<'_>) {
     let RowOut {
-        disp16,
         floats: [p0, p1, p2, p3],
         disp: [d0, d1, d2, d3],
         rgba,
@@ -352,7 +333,6 @@ pub(super) fn surface_row(row: RowIn<RowSource<'_>>, out: RowOut<'_>) {
                     row_sign,
                     k,
                 },
-                disp16,
                 p0,
                 p1,
                 p2,
@@ -367,11 +347,9 @@ pub(super) fn surface_row(row: RowIn<RowSource<'_>>, out: RowOut<'_>) {
             )
         };
     }
-    match (row.src, d0.is_empty()) {
-        (RowSource::Spectral(src), true) => run!(surface_row_skip, src),
-        (RowSource::Spectral(src), false) => run!(surface_row_keep, src),
-        (RowSource::Finite(src), true) => run!(surface_row_skip_finite, src),
-        (RowSource::Finite(src), false) => run!(surface_row_keep_finite, src),
+    match row.src {
+        RowSource::Spectral(src) => run!(surface_row_spectral, src),
+        RowSource::Finite(src) => run!(surface_row_finite, src),
     }
 }
 
