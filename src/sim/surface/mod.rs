@@ -55,10 +55,12 @@ pub struct CascadeSurface {
     pub displacement_f16: Vec<[f16; 4]>,
     /// RGBA8 normal/foam/smoothness chain (eq. 50-51), mip m at [`pack::mip_offset`].
     pub normal_foam: Vec<u32>,
-    /// Float chain behind `normal_foam`: unnormalized, roughness-scaled normal xyz and foam,
-    /// from level 1 (or level 0 with [`FloatCopies::Keep`]); see [`CascadeSurface::floats_offset`].
-    normal_floats: Vec<[f32; 4]>,
-    base: FloatCopies,
+    /// Level-0 roughness-scaled normal xyz and foam with [`FloatCopies::Keep`]; else empty.
+    base_floats: Vec<[f32; 4]>,
+    /// Float mips behind `normal_foam` from level 1: unnormalized, roughness-scaled normal
+    /// xyz and foam as four planes per level (see [`CascadeSurface::mip_floats`]), so the 2×2
+    /// averages vectorize without de- and re-interleaving.
+    mip_chain: Vec<f32>,
     /// Largest |Dx|, |h|, |Dz| over the patch (m): pads LOD bounding boxes.
     pub max_displacement: [f32; 3],
     /// Simulation time (s) these fields show.
@@ -83,46 +85,54 @@ impl CascadeSurface {
     /// Zeroed surface for one cascade.
     pub fn new(grid: GridSize, patch: f32, base: FloatCopies) -> Self {
         let chain = pack::mip_chain_len(grid);
-        let floats = match base {
-            FloatCopies::Keep => chain,
-            FloatCopies::Skip => chain - grid.texels(),
+        let kept = |len| match base {
+            FloatCopies::Keep => len,
+            FloatCopies::Skip => 0,
         };
         Self {
             grid,
             patch,
-            displacement: match base {
-                FloatCopies::Keep => vec![[0.0; 4]; grid.texels()],
-                FloatCopies::Skip => Vec::new(),
-            },
+            displacement: vec![[0.0; 4]; kept(grid.texels())],
             displacement_f16: vec![[f16::ZERO; 4]; grid.texels()],
             normal_foam: vec![0; chain],
-            normal_floats: vec![[0.0; 4]; floats],
-            base,
+            base_floats: vec![[0.0; 4]; kept(grid.texels())],
+            mip_chain: vec![0.0; 4 * (chain - grid.texels())],
             max_displacement: [0.0; 3],
             time: 0.0,
             row_max: vec![[0.0; 3]; grid.n()],
         }
     }
 
-    /// Offset of mip `level` in the float chain (levels below 1 absent with [`FloatCopies::Skip`]).
-    fn floats_offset(&self, level: u32) -> usize {
-        match self.base {
-            FloatCopies::Keep => pack::mip_offset(self.grid, level),
-            FloatCopies::Skip => pack::mip_offset(self.grid, level) - self.grid.texels(),
-        }
+    /// Whether this surface keeps f32 copies of level 0.
+    fn keeps_floats(&self) -> bool {
+        !self.base_floats.is_empty()
     }
 
     /// Level-0 roughness-scaled normals (xyz) and foam (w), row-major, when kept.
     pub fn base_normals(&self) -> Option<&[[f32; 4]]> {
-        (self.base == FloatCopies::Keep).then(|| &self.normal_floats[..self.grid.texels()])
+        self.keeps_floats().then_some(&self.base_floats[..])
     }
 
-    /// Unnormalized float mip `level` ≥ 1 (normal xyz, foam w), as averaged (eq. 52).
-    pub fn mip_floats(&self, level: u32) -> &[[f32; 4]] {
-        let side = self.grid.n() >> level;
-        let off = self.floats_offset(level);
-        &self.normal_floats[off..off + side * side]
+    /// Unnormalized float mip `level` ≥ 1 as averaged (eq. 52): the planes of normal x, y, z
+    /// and foam, each row-major with side N/2^level.
+    pub fn mip_floats(&self, level: u32) -> [&[f32]; 4] {
+        let (block, area) = mip_block(self.grid, level);
+        let planes = &self.mip_chain[block..block + 4 * area];
+        std::array::from_fn(|q| &planes[q * area..(q + 1) * area])
     }
+}
+
+/// Where float mip `level` ≥ 1 starts in [`CascadeSurface::mip_chain`], and its texel count.
+fn mip_block(grid: GridSize, level: u32) -> (usize, usize) {
+    let side = grid.n() >> level;
+    let start = 4 * (pack::mip_offset(grid, level) - grid.texels());
+    (start, side * side)
+}
+
+/// The four planes of a float mip block of `area` texels each.
+fn planes_mut(block: &mut [f32], area: usize) -> [&mut [f32]; 4] {
+    let mut planes = block.chunks_exact_mut(area);
+    std::array::from_fn(|_| planes.next().expect("a block holds four planes"))
 }
 
 /// The unit normal of a roughness-scaled normal.
@@ -213,9 +223,9 @@ pub fn finalize(
     // displacement's RGBA16F is converted from there, and both are copied out only when the
     // surface keeps float copies. Each task runs several pairs with one buffer, cleared once.
     let side1 = n / 2;
-    let l1 = out.floats_offset(1);
-    let (level0_floats, level1_floats) = out.normal_floats.split_at_mut(l1);
-    let level1_floats = &mut level1_floats[..side1 * side1];
+    let keep = out.keeps_floats();
+    let (block1, area1) = mip_block(out.grid, 1);
+    let [f1x, f1y, f1z, f1w] = planes_mut(&mut out.mip_chain[block1..block1 + 4 * area1], area1);
     let (level0_rgba, rest) = out.normal_foam.split_at_mut(n * n);
     let level1_rgba = &mut rest[..side1 * side1];
     let process_pair = |pair: usize, p: Pair<'_>, buf: &mut [f32]| {
@@ -257,9 +267,13 @@ pub fn finalize(
             interleave_f16([&*d0[i], &*d1[i], &*d2[i], &*d3[i]], disp16);
         }
         let [p0, p1, p2, p3] = &fl;
+        let [f1x, f1y, f1z, f1w] = p.floats1;
         mip_planes(
             [p0[0], p0[1], p1[0], p1[1], p2[0], p2[1], p3[0], p3[1]],
-            p.floats1,
+            f1x,
+            f1y,
+            f1z,
+            f1w,
             p.rgba1,
         );
         if let Some(kept) = p.kept {
@@ -286,29 +300,33 @@ pub fn finalize(
         })
     };
     let rows = 2 * per_task;
+    let level1 = per_task * side1;
     let chunks = out
         .displacement_f16
         .par_chunks_mut(rows * n)
         .zip(level0_rgba.par_chunks_mut(rows * n))
         .zip(foam.par_chunks_mut(rows * n))
         .zip(out.row_max.par_chunks_mut(rows))
-        .zip(level1_floats.par_chunks_mut(per_task * side1))
-        .zip(level1_rgba.par_chunks_mut(per_task * side1))
+        .zip(f1x.par_chunks_mut(level1))
+        .zip(f1y.par_chunks_mut(level1))
+        .zip(f1z.par_chunks_mut(level1))
+        .zip(f1w.par_chunks_mut(level1))
+        .zip(level1_rgba.par_chunks_mut(level1))
         .map(
-            |(((((disp16, rgba), foam), row_max), floats1), rgba1)| Pair {
+            |((((((((disp16, rgba), foam), row_max), x), y), z), w), rgba1)| Pair {
                 disp16,
                 rgba,
                 foam,
                 row_max,
-                floats1,
+                floats1: [x, y, z, w],
                 rgba1,
                 kept: None,
             },
         )
         .enumerate();
-    match out.base {
-        FloatCopies::Keep => chunks
-            .zip(level0_floats.par_chunks_mut(rows * n))
+    match keep {
+        true => chunks
+            .zip(out.base_floats.par_chunks_mut(rows * n))
             .zip(out.displacement.par_chunks_mut(rows * n))
             .for_each(|(((t, p), floats), disp)| {
                 task(
@@ -319,7 +337,7 @@ pub fn finalize(
                     },
                 )
             }),
-        FloatCopies::Skip => chunks.for_each(|(t, p)| task(t, p)),
+        false => chunks.for_each(|(t, p)| task(t, p)),
     }
     out.max_displacement = out.row_max.iter().fold([0.0f32; 3], |a, r| {
         [a[0].max(r[0]), a[1].max(r[1]), a[2].max(r[2])]
@@ -361,7 +379,8 @@ struct Pair<'a> {
     rgba: &'a mut [u32],
     foam: &'a mut [f32],
     row_max: &'a mut [[f32; 3]],
-    floats1: &'a mut [[f32; 4]],
+    /// Level-1 float planes (normal x, y, z, foam).
+    floats1: [&'a mut [f32]; 4],
     rgba1: &'a mut [u32],
     kept: Option<Kept<'a>>,
 }
@@ -376,20 +395,24 @@ impl<'a> Pair<'a> {
                 .map(|(floats, disp)| Kept { floats, disp })
         });
         let mut kept = kept.into_iter().flatten();
+        let [x, y, z, w] = self.floats1;
         self.disp16
             .chunks_mut(2 * n)
             .zip(self.rgba.chunks_mut(2 * n))
             .zip(self.foam.chunks_mut(2 * n))
             .zip(self.row_max.chunks_mut(2))
-            .zip(self.floats1.chunks_mut(side1))
+            .zip(x.chunks_mut(side1))
+            .zip(y.chunks_mut(side1))
+            .zip(z.chunks_mut(side1))
+            .zip(w.chunks_mut(side1))
             .zip(self.rgba1.chunks_mut(side1))
             .map(
-                move |(((((disp16, rgba), foam), row_max), floats1), rgba1)| Pair {
+                move |((((((((disp16, rgba), foam), row_max), x), y), z), w), rgba1)| Pair {
                     disp16,
                     rgba,
                     foam,
                     row_max,
-                    floats1,
+                    floats1: [x, y, z, w],
                     rgba1,
                     kept: kept.next(),
                 },
