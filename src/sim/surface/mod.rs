@@ -229,7 +229,7 @@ pub fn finalize(
     let (level0_rgba, rest) = out.normal_foam.split_at_mut(n * n);
     let level1_rgba = &mut rest[..side1 * side1];
     let process_pair = |pair: usize, p: Pair<'_>, buf: &mut [f32]| {
-        // Plane q of row i of the pair at (2q + i)·n: floats, then (kept) displacement.
+        // Plane q of row i of the pair at (2q + i)·n: the floats, then the displacement.
         let (floats, disp) = buf.split_at_mut(8 * n);
         let mut fl = floats.chunks_exact_mut(n);
         let mut fl: [[&mut [f32]; 2]; 4] = std::array::from_fn(|_| {
@@ -324,8 +324,8 @@ pub fn finalize(
             },
         )
         .enumerate();
-    match keep {
-        true => chunks
+    if keep {
+        chunks
             .zip(out.base_floats.par_chunks_mut(rows * n))
             .zip(out.displacement.par_chunks_mut(rows * n))
             .for_each(|(((t, p), floats), disp)| {
@@ -336,8 +336,9 @@ pub fn finalize(
                         ..p
                     },
                 )
-            }),
-        false => chunks.for_each(|(t, p)| task(t, p)),
+            });
+    } else {
+        chunks.for_each(|(t, p)| task(t, p));
     }
     out.max_displacement = out.row_max.iter().fold([0.0f32; 3], |a, r| {
         [a[0].max(r[0]), a[1].max(r[1]), a[2].max(r[2])]
