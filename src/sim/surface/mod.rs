@@ -9,7 +9,7 @@
 //! (n.x, n.z, foam, smoothness) with mips at the offsets of eq. 55. Foam replaces eq. 50's raw
 //! Jacobian in B (J stays in the displacement's alpha). RGBA16F is converted from the row's f32
 //! planes by F16C or NEON where present, else `pack::f16_bits`: round to nearest even, the
-//! same bits on every path ([`f16_row`]).
+//! same bits on every path (`f16_row.rs`).
 //!
 //! # Float copies on request
 //! `Surfaces::new` (the renderer's) keeps only the GPU formats plus float mips from level 1;
