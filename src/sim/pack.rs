@@ -43,8 +43,8 @@ pub fn pack_rgba8(nx: f32, nz: f32, foam: f32, smoothness: f32) -> u32 {
 
 /// IEEE binary16 bits of `x`, rounded to nearest even: what F16C, NEON's `fcvtn` and `half`
 /// compute for every non-NaN input (NaN becomes the quiet NaN 0x7e00, sign kept). Written
-/// branch-free in integer and f32 arithmetic so that it vectorizes inside the surface loop at
-/// every SIMD tier (the `half` slice conversion ran as a separate, non-inlined pass).
+/// branch-free in integer and f32 arithmetic so that it vectorizes at every SIMD tier: the
+/// surface stage's fallback where the CPU has no conversion instruction (SSE2).
 #[inline(always)]
 pub fn f16_bits(x: f32) -> u16 {
     let bits = x.to_bits();

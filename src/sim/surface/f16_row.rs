@@ -5,7 +5,10 @@
 //!
 //! A pass of its own rather than a part of the surface row loop: in software the conversion
 //! is ~15 vector instructions per plane, a third of that loop, and its registers made the
-//! loop spill; the instruction does eight texels of one plane at once.
+//! loop spill; the instruction does eight texels of one plane at once. Not `half`'s slice
+//! conversion: it converts one contiguous slice, and feeding it texels in (Dx, h, Dz, J) order
+//! would put a 4-plane transpose back into the row loop; here the interleave is two unpacks per
+//! pair of planes (F16C) or the `st4` store itself (NEON).
 
 use crate::sim::pack;
 

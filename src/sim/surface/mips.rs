@@ -11,7 +11,7 @@ use crate::sim::simd::dispatch;
 
 /// The RGBA8 texel of an averaged (unnormalized) normal and foam `v` (eq. 51, 53).
 #[inline(always)]
-pub(super) fn mip_texel(v: [f32; 4]) -> u32 {
+fn mip_texel(v: [f32; 4]) -> u32 {
     let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
     let inv = if l > 1e-20 { 1.0 / l } else { 0.0 };
     pack::pack_rgba8(v[0] * inv, v[2] * inv, v[3], pack::smoothness(l))
