@@ -46,7 +46,8 @@ fn stages(c: &mut Criterion) {
             g.bench_function(id("stage2_evolve"), |b| {
                 b.iter(|| {
                     pool.install(|| {
-                        evolve::evolve(&spectrum, 250.0, LoopPhase::new(3.0, 200.0), &mut fields)
+                        let at = LoopPhase::new(3.0, 200.0);
+                        evolve::evolve(&spectrum, 250.0, at, &mut fields, 0..n as usize)
                     })
                 })
             });
@@ -75,6 +76,7 @@ fn stages(c: &mut Criterion) {
                             250.0,
                             LoopPhase::new(3.0, 200.0),
                             &mut finite,
+                            0..n as usize,
                         )
                     })
                 })

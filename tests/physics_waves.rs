@@ -13,7 +13,8 @@ use vr_ocean::sim::fft::Fft2d;
 use vr_ocean::sim::spectrum::{self, PackedSpectrum};
 use vr_ocean::sim::surface::{self, SurfaceParams, Transformed};
 use vr_ocean::sim::{
-    dispersion, AlignedBuf, FoamParams, GridSize, OceanConfig, SimCore, SplitField, Surfaces,
+    dispersion, AlignedBuf, FoamParams, GridSize, OceanConfig, SimCore, SplitField, Support,
+    Surfaces,
 };
 
 /// One long-crested swell along +x through the simulation's evolve → FFT → surface path.
@@ -55,13 +56,15 @@ impl Swell {
         let mut harm = vec![0u32; grid.texels()];
         harm[i] = harmonic;
         harm[m] = harmonic;
-        let spectrum = PackedSpectrum {
+        let mut spectrum = PackedSpectrum {
             grid,
             s,
             harmonic: harm,
             expected_variance: 2.0 * (h0 as f64).powi(2),
             slopes: Default::default(),
+            support: Support::full(grid),
         };
+        spectrum.support = spectrum.find_support();
         let cfg = OceanConfig::single(n as u32, patch).unwrap();
         Self {
             spectrum,
@@ -86,8 +89,11 @@ impl Swell {
             self.patch,
             LoopPhase::new(t, self.period),
             &mut self.fields,
+            0..0,
         );
-        self.fft.inverse_batch(&mut self.fields, &mut self.scratch);
+        let support = &self.spectrum.support;
+        self.fft
+            .inverse_batch_support(&mut self.fields, &mut self.scratch, support);
         let p = SurfaceParams {
             choppiness: self.choppiness,
             roughness: 0.1,

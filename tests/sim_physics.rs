@@ -6,7 +6,7 @@ use vr_ocean::sim::spectrum::{self, cascade_bands, CascadeSpec, PackedSpectrum};
 use vr_ocean::sim::surface::{self, CascadeSurface, FloatCopies, SurfaceParams, Transformed};
 use vr_ocean::sim::{
     dispersion, AlignedBuf, FoamParams, GridSize, OceanConfig, SimCore, SpectrumKind, SplitField,
-    Surfaces,
+    Support, Surfaces,
 };
 
 fn spec_of(cfg: &OceanConfig, i: usize) -> CascadeSpec {
@@ -89,13 +89,16 @@ fn single_mode(
     s[3][m] = amplitude;
     harm[i] = harmonic;
     harm[m] = harmonic;
-    PackedSpectrum {
+    let mut spectrum = PackedSpectrum {
         grid,
         s,
         harmonic: harm,
         expected_variance: 2.0 * (amplitude as f64).powi(2),
         slopes: Default::default(),
-    }
+        support: Support::full(grid),
+    };
+    spectrum.support = spectrum.find_support();
+    spectrum
 }
 
 /// Height field of a packed spectrum at time t, through the real evolve → FFT → surface path.
@@ -119,8 +122,10 @@ fn surface_of(
     let fft = Fft2d::new(grid);
     let mut fields: [SplitField; 4] = std::array::from_fn(|_| SplitField::zeros(grid));
     let mut scratch: [SplitField; 4] = std::array::from_fn(|_| SplitField::zeros(grid));
-    evolve::evolve(spec, patch, LoopPhase::new(t, period), &mut fields);
-    fft.inverse_batch(&mut fields, &mut scratch);
+    // The step's path: only the spectrum's support is evolved, read and transformed.
+    let at = LoopPhase::new(t, period);
+    evolve::evolve(spec, patch, at, &mut fields, 0..0);
+    fft.inverse_batch_support(&mut fields, &mut scratch, &spec.support);
     let mut out = CascadeSurface::new(grid, patch, FloatCopies::Keep);
     let mut foam = AlignedBuf::zeros(grid.texels());
     let p = SurfaceParams {
@@ -660,5 +665,81 @@ fn keeping_float_copies_changes_nothing_else() {
                 assert!((avg - plane[i]).abs() < 1e-6);
             }
         }
+    }
+}
+
+/// Fields of `grid` filled with NaN: whatever the step does not write must not reach a result.
+fn nan_fields<const F: usize>(grid: GridSize) -> [SplitField; F] {
+    std::array::from_fn(|_| {
+        let mut f = SplitField::zeros(grid);
+        f.re.fill(f32::NAN);
+        f.im.fill(f32::NAN);
+        f
+    })
+}
+
+/// Whether two sets of fields are equal as numbers (zeros may differ in sign: a skipped strip's
+/// zeros are written, a transformed one's computed).
+fn same_values(a: &[SplitField], b: &[SplitField]) -> bool {
+    a.iter().zip(b).all(|(a, b)| {
+        a.re.iter().zip(b.re.iter()).all(|(x, y)| x == y)
+            && a.im.iter().zip(b.im.iter()).all(|(x, y)| x == y)
+    })
+}
+
+/// The default sea's two coarse spectra are zero outside a small square (their bands end far
+/// below their Nyquist): the step evolves only its rows, and the FFT reads only those rows and
+/// its columns; the fields are the same as the whole-grid path's, in both derivative modes.
+/// Whatever the sparse path leaves unwritten holds NaN, so a read of it would show.
+#[test]
+fn sparse_spectra_skip_their_zeros_and_change_nothing() {
+    let cfg = OceanConfig::default_cascades(256).unwrap();
+    let (grid, n) = (cfg.grid, cfg.grid.n());
+    let fft = Fft2d::new(grid);
+    let at = LoopPhase::new(4.5, cfg.waves.loop_period);
+    for i in 0..cfg.patch_sizes.len() {
+        let spec = PackedSpectrum::generate(&cfg.waves, &spec_of(&cfg, i));
+        let patch = cfg.patch_sizes[i];
+        let support = spec.support.clone();
+        if i < 2 {
+            assert!(
+                support.rows.len() <= n / 4 && support.cols.len() <= n / 4,
+                "cascade {i}: support {support:?} is not the small square the skipping is for"
+            );
+        }
+        let mut scratch = [SplitField::zeros(grid)];
+
+        let mut want: [SplitField; 4] = std::array::from_fn(|_| SplitField::zeros(grid));
+        evolve::evolve(&spec, patch, at, &mut want, 0..n);
+        for (r, c) in (0..n * n).map(|t| (t / n, t % n)) {
+            if !(support.rows.contains(&r) && support.cols.contains(&c)) {
+                let zero = want
+                    .iter()
+                    .all(|f| f.re[r * n + c] == 0.0 && f.im[r * n + c] == 0.0);
+                assert!(
+                    zero,
+                    "cascade {i}: texel ({r}, {c}) outside {support:?} is not zero"
+                );
+            }
+        }
+        fft.inverse_batch(&mut want, &mut scratch);
+        let mut got = nan_fields::<4>(grid);
+        evolve::evolve(&spec, patch, at, &mut got, 0..0);
+        fft.inverse_batch_support(&mut got, &mut nan_fields::<1>(grid), &support);
+        assert!(
+            same_values(&got, &want),
+            "cascade {i}, spectral: the fields differ"
+        );
+
+        let mut want: [SplitField; 2] = std::array::from_fn(|_| SplitField::zeros(grid));
+        evolve::evolve_finite(&spec, patch, at, &mut want, 0..n);
+        fft.inverse_batch(&mut want, &mut scratch);
+        let mut got = nan_fields::<2>(grid);
+        evolve::evolve_finite(&spec, patch, at, &mut got, 0..0);
+        fft.inverse_batch_support(&mut got, &mut nan_fields::<1>(grid), &support);
+        assert!(
+            same_values(&got, &want),
+            "cascade {i}, finite: the fields differ"
+        );
     }
 }

@@ -90,14 +90,17 @@ impl CascadeSim {
         let StepAt { t, phase, params } = at;
         out.patch = self.spec.patch;
         let t0 = Instant::now();
+        // The FFT neither reads nor needs the rows outside the spectrum's support: the
+        // evolution writes no zeros there.
+        let (spectrum, patch) = (&self.spectrum, self.spec.patch);
         match &mut self.fields {
-            Fields::Spectral(f) => evolve::evolve(&self.spectrum, self.spec.patch, phase, f),
-            Fields::Finite(f) => evolve::evolve_finite(&self.spectrum, self.spec.patch, phase, f),
+            Fields::Spectral(f) => evolve::evolve(spectrum, patch, phase, f, 0..0),
+            Fields::Finite(f) => evolve::evolve_finite(spectrum, patch, phase, f, 0..0),
         }
         let t1 = Instant::now();
         let fields = self.fields.all();
         let groups = scratch.len().min(fields.len());
-        fft.inverse_batch(fields, &mut scratch[..groups]);
+        fft.inverse_batch_support(fields, &mut scratch[..groups], &self.spectrum.support);
         let t2 = Instant::now();
         surface::finalize(self.fields.transformed(), &mut self.foam, params, t, out);
         let t3 = Instant::now();

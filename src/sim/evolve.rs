@@ -20,6 +20,8 @@
 //! each carry a minus sign; applied together with this table's X they would pull points away
 //! from crests, which folds the sea in its troughs.
 
+use std::ops::Range;
+
 use rayon::prelude::*;
 
 use crate::sim::grid::SplitField;
@@ -335,36 +337,57 @@ fn rows4(
 
 /// Writes the four packed field spectra at loop phase `phase` (eq. 24) for a cascade of patch
 /// size `patch` (m). Rows r and N − r are computed together (Hermitian symmetry), so the
-/// evolution and its spectrum reads cover half the grid. Parallel over row pairs on the current
-/// Rayon pool; element-wise, so the output is the same for any thread count.
+/// evolution and its spectrum reads cover half the grid. Rows outside the spectrum's
+/// [`support`](PackedSpectrum::support) are not evolved: only their columns `zeroed` are
+/// written, as zeros: `0..N` for the whole field, `0..0` for
+/// [`Fft2d::inverse_batch_support`](crate::sim::fft::Fft2d::inverse_batch_support), which
+/// reads none of them. Parallel over row pairs on the current Rayon pool; element-wise, so the
+/// output is the same for any thread count.
+///
+/// # Panics
+/// If `zeroed` reaches past the grid's side.
 pub fn evolve(
     spectrum: &PackedSpectrum,
     patch: f32,
     phase: LoopPhase,
     fields: &mut [SplitField; 4],
+    zeroed: Range<usize>,
 ) {
     let [f0, f1, f2, f3] = fields;
     let (r0, i0) = f0.planes_mut();
     let (r1, i1) = f1.planes_mut();
     let (r2, i2) = f2.planes_mut();
     let (r3, i3) = f3.planes_mut();
-    evolve_planes::<false>(spectrum, patch, phase, [r0, i0, r1, i1, r2, i2, r3, i3]);
+    let planes = [r0, i0, r1, i1, r2, i2, r3, i3];
+    evolve_planes::<false>(spectrum, patch, phase, planes, zeroed);
 }
 
 /// [`evolve`] for [`Derivatives::Finite`](crate::sim::Derivatives): the spectra of h + i·X and
 /// Z + i·0 only (the surface stage differences them), half the planes and transforms.
+///
+/// # Panics
+/// If `zeroed` reaches past the grid's side.
 pub fn evolve_finite(
     spectrum: &PackedSpectrum,
     patch: f32,
     phase: LoopPhase,
     fields: &mut [SplitField; 2],
+    zeroed: Range<usize>,
 ) {
     let [f0, f1] = fields;
     let (r0, i0) = f0.planes_mut();
     let (r1, i1) = f1.planes_mut();
     let mut planes: [&mut [f32]; 8] = Default::default();
     [planes[0], planes[1], planes[2], planes[3]] = [r0, i0, r1, i1];
-    evolve_planes::<true>(spectrum, patch, phase, planes);
+    evolve_planes::<true>(spectrum, patch, phase, planes, zeroed);
+}
+
+/// Writes zeros into columns `cols` of every plane of a row (the empty planes of the finite
+/// mode stay empty).
+fn zero_rows(rows: [&mut [f32]; 8], cols: &Range<usize>) {
+    for plane in rows.into_iter().filter(|p| !p.is_empty()) {
+        plane[cols.clone()].fill(0.0);
+    }
 }
 
 /// The common body of [`evolve`] and [`evolve_finite`] (`FINITE`: planes 4-7 are empty).
@@ -373,8 +396,14 @@ fn evolve_planes<const FINITE: bool>(
     patch: f32,
     phase: LoopPhase,
     planes: [&mut [f32]; 8],
+    zeroed: Range<usize>,
 ) {
     let n = spectrum.grid.n();
+    assert!(
+        zeroed.end <= n,
+        "evolve: zeroed columns {zeroed:?} reach past the grid side {n}"
+    );
+    let live = |r: usize| spectrum.support.rows.contains(&r);
     let half = n / 2;
     let k = EvolveConsts {
         phase,
@@ -408,10 +437,21 @@ fn evolve_planes<const FINITE: bool>(
     };
     // The two rows that are their own mirror: the Nyquist row 0 and k_z = 0.
     for (r, out) in [(0, row0), (half, mid)] {
-        evolve_rows::<FINITE>(row_of(r), out, Default::default());
+        if live(r) {
+            evolve_rows::<FINITE>(row_of(r), out, Default::default());
+        } else {
+            zero_rows(out, &zeroed);
+        }
     }
     // Rows 1..N/2 ascending pair with rows N−1..N/2+1 descending.
-    let pair = |(j, (out, mirror))| evolve_rows::<FINITE>(row_of(j + 1), out, mirror);
+    let pair = |(j, (out, mirror)): (usize, _)| {
+        if live(j + 1) || live(n - 1 - j) {
+            evolve_rows::<FINITE>(row_of(j + 1), out, mirror);
+        } else {
+            zero_rows(out, &zeroed);
+            zero_rows(mirror, &zeroed);
+        }
+    };
     if FINITE {
         rows4(top, n)
             .zip(rows4(bottom, n).rev())

@@ -1,5 +1,7 @@
 //! Grid sizes and the aligned planar buffers every stage works on.
 
+use std::ops::Range;
+
 use crate::base::ParamError;
 
 /// Side length N of an N×N simulation grid: always a power of two in
@@ -142,9 +144,78 @@ impl SplitField {
     }
 }
 
+/// The rectangle of an N×N field outside which every value is zero. A cascade's spectrum is
+/// zero outside its band ([`crate::sim::spectrum::cascade_bands`]), and the coarse cascades'
+/// bands end far below their Nyquist: at N = 256 the default sea's two coarse spectra hold
+/// their non-zeros within ~22 texels of the centre. The evolution skips the other rows and the
+/// FFT's first pass the column strips that lie outside [`Support::cols`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Support {
+    /// Rows that may hold non-zeros (empty if none does).
+    pub rows: Range<usize>,
+    /// Columns that may hold non-zeros (empty if none does).
+    pub cols: Range<usize>,
+}
+
+impl Support {
+    /// The whole field of side `size`.
+    pub fn full(size: GridSize) -> Self {
+        Self {
+            rows: 0..size.n(),
+            cols: 0..size.n(),
+        }
+    }
+
+    /// The smallest support of a field of side `size` where `nonzero(row, col)` says which
+    /// values are non-zero.
+    pub fn of(size: GridSize, nonzero: impl Fn(usize, usize) -> bool) -> Self {
+        let n = size.n();
+        let (mut rows, mut cols) = ((n, 0), (n, 0));
+        for r in 0..n {
+            for c in 0..n {
+                if nonzero(r, c) {
+                    rows = (rows.0.min(r), rows.1.max(r + 1));
+                    cols = (cols.0.min(c), cols.1.max(c + 1));
+                }
+            }
+        }
+        if rows.0 >= rows.1 {
+            return Self {
+                rows: 0..0,
+                cols: 0..0,
+            };
+        }
+        Self {
+            rows: rows.0..rows.1,
+            cols: cols.0..cols.1,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn support_is_the_bounding_box_of_the_non_zeros() {
+        let g = GridSize::new(16).unwrap();
+        let s = Support::of(g, |r, c| (r, c) == (3, 9) || (r, c) == (7, 5));
+        assert_eq!(
+            s,
+            Support {
+                rows: 3..8,
+                cols: 5..10
+            }
+        );
+        assert_eq!(
+            Support::of(g, |_, _| false),
+            Support {
+                rows: 0..0,
+                cols: 0..0
+            }
+        );
+        assert_eq!(Support::of(g, |_, _| true), Support::full(g));
+    }
 
     #[test]
     fn grid_size_accepts_powers_of_two_in_range_only() {

@@ -44,7 +44,7 @@ pub mod trig;
 pub mod whitecaps;
 pub mod workers;
 
-pub use grid::{AlignedBuf, GridSize, SplitField};
+pub use grid::{AlignedBuf, GridSize, SplitField, Support};
 pub use params::{
     Derivatives, FoamParams, OceanConfig, PatchFit, SpectrumKind, WaveParams, DEFAULT_DERIVATIVES,
     DEFAULT_FETCH_KM, DEFAULT_GAMMA, DEFAULT_PATCH_SIZES,

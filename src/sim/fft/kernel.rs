@@ -14,6 +14,8 @@
 //! transposes LANES×LANES blocks in registers and writes whole destination row segments.
 //! Lanes always hold adjacent columns, so the butterflies are purely vertical SIMD.
 
+use std::ops::Range;
+
 use super::plan::{CRow, Plan, Stage, L1_ROWS, STRIP};
 
 /// The vector operations the kernel needs. Implemented by zero-sized "proof" tokens: a value of
@@ -178,6 +180,9 @@ pub(super) struct Job<'a> {
     pub dst_im: &'a mut [f32],
     /// Index of the first strip this job covers.
     pub first_strip: usize,
+    /// The source rows that may hold non-zeros: the others are taken as zero, not read (in
+    /// pass 2 a source row is a column of the field).
+    pub src_rows: Range<usize>,
     /// Pass 1 (natural field → tiled intermediate) or pass 2 (tiled intermediate → natural
     /// field, transposed back).
     pub first_pass: bool,
@@ -228,19 +233,33 @@ fn pass_impl<S: Simd, const FIRST: bool>(s: S, plan: &Plan, job: Job<'_>, local:
         .enumerate()
     {
         let strip = job.first_strip + k;
-        first_stage::<S, FIRST>(s, plan, job.src_re, job.src_im, strip, local);
+        let src = Source {
+            re: job.src_re,
+            im: job.src_im,
+            rows: job.src_rows.clone(),
+        };
+        first_stage::<S, FIRST>(s, plan, &src, strip, local);
         later_stages(s, plan, local);
         store_transposed::<S, FIRST>(s, plan, local, dre, dim);
     }
 }
+
+/// A pass's source planes and the rows of them that may hold non-zeros.
+struct Source<'a> {
+    re: &'a [f32],
+    im: &'a [f32],
+    rows: Range<usize>,
+}
+
+/// Zeros standing in for a source row outside [`Source::rows`].
+const ZERO_ROW: [f32; STRIP] = [0.0; STRIP];
 
 /// The first radix-4 stage: source rows in, working buffer out.
 #[inline(always)]
 fn first_stage<S: Simd, const FIRST: bool>(
     s: S,
     plan: &Plan,
-    src_re: &[f32],
-    src_im: &[f32],
+    src: &Source<'_>,
     strip: usize,
     local: &mut [CRow],
 ) {
@@ -252,20 +271,19 @@ fn first_stage<S: Simd, const FIRST: bool>(
     let [l0, l1, l2, l3] = quarters(local);
     for j in 0..q {
         let w = tw4(s, tw, j);
-        let at = |p: usize| src_at::<FIRST>(n, strip, j + p * q);
-        let (a0, a1, a2, a3) = (at(0), at(1), at(2), at(3));
-        let re = [
-            src_row(src_re, a0),
-            src_row(src_re, a1),
-            src_row(src_re, a2),
-            src_row(src_re, a3),
-        ];
-        let im = [
-            src_row(src_im, a0),
-            src_row(src_im, a1),
-            src_row(src_im, a2),
-            src_row(src_im, a3),
-        ];
+        // The source row j + p·q of both planes, or zeros outside the live rows.
+        let row = |p: usize| -> (&[f32; STRIP], &[f32; STRIP]) {
+            let r = j + p * q;
+            if src.rows.contains(&r) {
+                let at = src_at::<FIRST>(n, strip, r);
+                (src_row(src.re, at), src_row(src.im, at))
+            } else {
+                (&ZERO_ROW, &ZERO_ROW)
+            }
+        };
+        let (r0, r1, r2, r3) = (row(0), row(1), row(2), row(3));
+        let re = [r0.0, r1.0, r2.0, r3.0];
+        let im = [r0.1, r1.1, r2.1, r3.1];
         for h in 0..STRIP / S::LANES {
             let o = h * S::LANES;
             let x = [

@@ -15,6 +15,11 @@
 //! pass 2 writes plain rows, so the field ends in natural row-major order with no separate
 //! transpose or bit-reversal pass.
 //!
+//! Fields that are zero outside a [`Support`] (the coarse cascades' spectra) go through
+//! [`Fft2d::inverse_batch_support`]: pass 1 transforms only the strips that meet its columns and
+//! reads only its rows; pass 2 reads only the intermediate rows of its columns (zeros stand in
+//! for the rest, which is never read nor written).
+//!
 //! Scratch content after a call is unspecified. `SimCore` owns 2 scratch fields up to N = 256
 //! (the four transforms go in two groups: fewer fork-joins) and 1 from N = 512 (cache); the
 //! grouping never changes the bits.
@@ -33,11 +38,12 @@ mod tests;
 #[cfg(target_arch = "x86_64")]
 mod x86;
 
+use std::ops::Range;
 use std::sync::atomic::{AtomicU8, Ordering};
 
 use rayon::prelude::*;
 
-use crate::sim::grid::{GridSize, SplitField};
+use crate::sim::grid::{GridSize, SplitField, Support};
 use crate::sim::simd::Tier;
 use kernel::Job;
 use plan::{CRow, Plan, STRIP};
@@ -295,10 +301,14 @@ impl Fft2d {
     pub fn inverse(&self, field: &mut SplitField, scratch: &mut SplitField) {
         self.check(field, scratch);
         with_local(self.size.n(), |local| {
+            let n = self.size.n();
             let (dre, dim) = scratch.planes_mut();
-            self.run(pass_job(field, dre, dim, 0, true), local);
+            self.run(pass_job(field, dre, dim, 0, &Pass::whole(n, true)), local);
             let (dre, dim) = field.planes_mut();
-            self.run(pass_job(scratch, dre, dim, 0, false), local);
+            self.run(
+                pass_job(scratch, dre, dim, 0, &Pass::whole(n, false)),
+                local,
+            );
         });
     }
 
@@ -314,6 +324,25 @@ impl Fft2d {
     /// If `scratch` is empty or longer than `fields` (while `fields` is not empty), or any field
     /// is not of this plan's size.
     pub fn inverse_batch(&self, fields: &mut [SplitField], scratch: &mut [SplitField]) {
+        self.inverse_batch_support(fields, scratch, &Support::full(self.size));
+    }
+
+    /// [`Fft2d::inverse_batch`] of fields that are zero outside `support`, which it neither
+    /// reads nor needs written: the first pass transforms only the column strips that meet
+    /// `support.cols`, reading only the rows `support.rows`; the second reads only the
+    /// intermediate rows of the columns `support.cols` (the rest are zero). The default sea's
+    /// two coarse cascades at N = 256 need 4 of 16 strips of ~45 rows in the first pass and
+    /// ~45 of 256 rows in the second. The butterflies are those of `inverse_batch` on the
+    /// same values, so the result differs from it at most in the sign of zeros.
+    ///
+    /// # Panics
+    /// As `inverse_batch`, and if `support` reaches past the grid.
+    pub fn inverse_batch_support(
+        &self,
+        fields: &mut [SplitField],
+        scratch: &mut [SplitField],
+        support: &Support,
+    ) {
         if fields.is_empty() {
             return;
         }
@@ -329,45 +358,58 @@ impl Fft2d {
         for s in scratch.iter() {
             self.check(&fields[0], s);
         }
-        // Split each field's passes only as far as needed to give every thread about two
-        // tasks: each task clears its own working buffer, so fewer, larger tasks are cheaper.
-        // Every strip is computed identically whatever the split, so results don't depend on it.
-        let strips = self.size.n() / STRIP;
-        let threads = rayon::current_num_threads();
+        let n = self.size.n();
+        assert!(
+            support.rows.end <= n && support.cols.end <= n,
+            "inverse_batch_support: {support:?} reaches past the grid side {n}"
+        );
+        // Pass 2's source rows are the field's columns; the intermediate of the strips pass 1
+        // skips is never written, and never read.
+        let first = Pass {
+            first: true,
+            strips: live_strips(&support.cols),
+            rows: support.rows.clone(),
+        };
+        let second = Pass {
+            rows: support.cols.clone(),
+            ..Pass::whole(n, false)
+        };
         let group = scratch.len();
-        let tasks_per_pass = (2 * threads).div_ceil(group).min(strips);
-        let strips_per_task = strips.div_ceil(tasks_per_pass);
         for fields in fields.chunks_mut(group) {
             fields
                 .par_iter_mut()
                 .zip(scratch.par_iter_mut())
                 .for_each(|(f, s)| {
-                    self.pass_par(f, s, true, strips_per_task);
-                    self.pass_par(s, f, false, strips_per_task);
+                    self.pass_par(f, s, &first, group);
+                    self.pass_par(s, f, &second, group);
                 });
         }
     }
 
-    /// One pass `src` → `dst`, split into rayon tasks of `strips_per_task` strips.
-    fn pass_par(
-        &self,
-        src: &SplitField,
-        dst: &mut SplitField,
-        first_pass: bool,
-        strips_per_task: usize,
-    ) {
+    /// One pass `src` → `dst` over `pass.strips`, split into rayon tasks (`group` fields run
+    /// at once); the other strips' destination is left as it was.
+    fn pass_par(&self, src: &SplitField, dst: &mut SplitField, pass: &Pass, group: usize) {
+        let strips = pass.strips.clone();
+        // Split the pass only as far as needed to give every thread about two tasks: each task
+        // clears its own working buffer, so fewer, larger tasks are cheaper. Every strip is
+        // computed identically whatever the split, so results don't depend on it.
+        let threads = rayon::current_num_threads();
+        let count = strips.len().max(1);
+        let tasks = (2 * threads).div_ceil(group).min(count);
+        let strips_per_task = count.div_ceil(tasks);
         let n = self.size.n();
-        let chunk = STRIP * n * strips_per_task;
+        let per_strip = STRIP * n;
         let (dre, dim) = dst.planes_mut();
-        dre.par_chunks_mut(chunk)
-            .zip(dim.par_chunks_mut(chunk))
+        let live = strips.start * per_strip..strips.end * per_strip;
+        let chunk = per_strip * strips_per_task;
+        dre[live.clone()]
+            .par_chunks_mut(chunk)
+            .zip(dim[live].par_chunks_mut(chunk))
             .enumerate()
             .for_each(|(i, (dre, dim))| {
                 with_local(n, |local| {
-                    self.run(
-                        pass_job(src, dre, dim, i * strips_per_task, first_pass),
-                        local,
-                    )
+                    let first_strip = strips.start + i * strips_per_task;
+                    self.run(pass_job(src, dre, dim, first_strip, pass), local)
                 })
             });
     }
@@ -398,13 +440,45 @@ impl Fft2d {
     }
 }
 
+/// The column strips that meet columns `live`.
+fn live_strips(live: &Range<usize>) -> Range<usize> {
+    if live.is_empty() {
+        0..0
+    } else {
+        live.start / STRIP..live.end.div_ceil(STRIP)
+    }
+}
+
+/// One pass of a 2D transform: which one, the strips it transforms and the source rows that
+/// may hold non-zeros.
+#[derive(Clone, Debug)]
+struct Pass {
+    /// Pass 1 (field → intermediate) or pass 2.
+    first: bool,
+    /// The strips transformed; the others' destination is not written.
+    strips: Range<usize>,
+    /// The source rows read; the others are taken as zero.
+    rows: Range<usize>,
+}
+
+impl Pass {
+    /// Every strip and every row of an `n`-grid.
+    fn whole(n: usize, first: bool) -> Pass {
+        Pass {
+            first,
+            strips: 0..n / STRIP,
+            rows: 0..n,
+        }
+    }
+}
+
 /// The job that transforms `src`'s strips `first_strip..` into `dst_re`/`dst_im`.
 fn pass_job<'a>(
     src: &'a SplitField,
     dst_re: &'a mut [f32],
     dst_im: &'a mut [f32],
     first_strip: usize,
-    first_pass: bool,
+    pass: &Pass,
 ) -> Job<'a> {
     Job {
         src_re: &src.re,
@@ -412,7 +486,8 @@ fn pass_job<'a>(
         dst_re,
         dst_im,
         first_strip,
-        first_pass,
+        src_rows: pass.rows.clone(),
+        first_pass: pass.first,
     }
 }
 

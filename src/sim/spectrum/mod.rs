@@ -8,7 +8,7 @@ pub mod rng;
 use rayon::prelude::*;
 
 use crate::sim::dispersion;
-use crate::sim::grid::{AlignedBuf, GridSize};
+use crate::sim::grid::{AlignedBuf, GridSize, Support};
 use crate::sim::params::{Derivatives, SpectrumKind, WaveParams};
 
 /// The wave numbers |k| ∈ [lo, hi) (rad/m) one cascade owns, so that cascades together cover
@@ -280,6 +280,11 @@ pub struct PackedSpectrum {
     pub expected_variance: f64,
     /// Slope variances: on the grid, and the unresolved tail (finest cascade only).
     pub slopes: SlopeVariance,
+    /// Where the packed spectrum can be non-zero (all four planes): the coarse cascades'
+    /// bands cover a small square around the centre, outside which the evolution and the FFT
+    /// skip their work. It must cover every non-zero of `s` (outside it they are taken as
+    /// zero): after changing `s`, set it from [`PackedSpectrum::find_support`].
+    pub support: Support,
 }
 
 impl PackedSpectrum {
@@ -293,6 +298,7 @@ impl PackedSpectrum {
             harmonic: vec![0; c.grid.texels()],
             expected_variance: 0.0,
             slopes: SlopeVariance::default(),
+            support: Support::full(c.grid),
         };
         let model = SpectrumModel::new(waves);
         let h0 = |col: usize, row: usize| -> (f64, f64) {
@@ -338,7 +344,16 @@ impl PackedSpectrum {
                 .map(|i| mode_power(&model, c, i % n, i / n))
                 .sum::<f64>();
         out.slopes = slope_variance(&model, c);
+        out.support = out.find_support();
         out
+    }
+
+    /// The smallest [`Support`] of the four planes `s`.
+    pub fn find_support(&self) -> Support {
+        let n = self.grid.n();
+        Support::of(self.grid, |r, col| {
+            self.s.iter().any(|p| p[r * n + col] != 0.0)
+        })
     }
 }
 
