@@ -172,7 +172,7 @@ impl SimCore {
             scratch: (0..scratch_fields(grid))
                 .map(|_| SplitField::zeros(grid))
                 .collect(),
-            whitecaps: WhitecapState::default(),
+            whitecaps: WhitecapState::new(grid),
             focus: [0.0; 2],
             last_time: None,
             timings: StageTimes::default(),
