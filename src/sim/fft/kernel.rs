@@ -238,7 +238,12 @@ fn pass_impl<S: Simd, const FIRST: bool>(s: S, plan: &Plan, job: Job<'_>, local:
             im: job.src_im,
             rows: job.src_rows.clone(),
         };
-        first_stage::<S, FIRST>(s, plan, &src, strip, local);
+        // The whole-field path keeps its loop free of the row test.
+        if src.rows == (0..n) {
+            first_stage::<S, FIRST, false>(s, plan, &src, strip, local);
+        } else {
+            first_stage::<S, FIRST, true>(s, plan, &src, strip, local);
+        }
         later_stages(s, plan, local);
         store_transposed::<S, FIRST>(s, plan, local, dre, dim);
     }
@@ -254,9 +259,10 @@ struct Source<'a> {
 /// Zeros standing in for a source row outside [`Source::rows`].
 const ZERO_ROW: [f32; STRIP] = [0.0; STRIP];
 
-/// The first radix-4 stage: source rows in, working buffer out.
+/// The first radix-4 stage: source rows in, working buffer out. With `SPARSE`, rows outside
+/// [`Source::rows`] are zeros, not read.
 #[inline(always)]
-fn first_stage<S: Simd, const FIRST: bool>(
+fn first_stage<S: Simd, const FIRST: bool, const SPARSE: bool>(
     s: S,
     plan: &Plan,
     src: &Source<'_>,
@@ -274,7 +280,7 @@ fn first_stage<S: Simd, const FIRST: bool>(
         // The source row j + p·q of both planes, or zeros outside the live rows.
         let row = |p: usize| -> (&[f32; STRIP], &[f32; STRIP]) {
             let r = j + p * q;
-            if src.rows.contains(&r) {
+            if !SPARSE || src.rows.contains(&r) {
                 let at = src_at::<FIRST>(n, strip, r);
                 (src_row(src.re, at), src_row(src.im, at))
             } else {
