@@ -21,8 +21,8 @@
 //! for the rest, which is never read nor written).
 //!
 //! Scratch content after a call is unspecified. `SimCore` owns 2 scratch fields up to N = 256
-//! (the four transforms go in two groups: fewer fork-joins) and 1 from N = 512 (cache); the
-//! grouping never changes the bits.
+//! with two or more threads (the four transforms go in two groups: fewer fork-joins), else 1
+//! (cache; see `scratch_fields` in `step.rs`); the grouping never changes the bits.
 //!
 //! Everything size-dependent (twiddles, stage list, output permutation) is built in
 //! [`Fft2d::new`]; transforms allocate nothing and only use a stack working buffer of
