@@ -1,6 +1,8 @@
 //! Criterion benchmarks of the simulation pipeline: each stage and the whole step for
 //! N = 128, 256, 512 on 1 and 2 threads (one cascade = four inverse 2D FFTs per step; the
 //! `_finite` stages and step are the central-difference mode's, two FFTs).
+//! `default_scene` is the headset's: the default three cascades at N = 256 in the central-
+//! difference mode, whitecap maps included, and the whitecap update alone.
 //! `cargo bench --bench sim`; FFT-only comparisons with rustfft and FFTW are in `benches/fft.rs`.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
@@ -9,6 +11,7 @@ use vr_ocean::sim::evolve::{self, LoopPhase};
 use vr_ocean::sim::fft::Fft2d;
 use vr_ocean::sim::spectrum::{cascade_bands, CascadeSpec, PackedSpectrum};
 use vr_ocean::sim::surface::{self, CascadeSurface, FloatCopies, SurfaceParams, Transformed};
+use vr_ocean::sim::whitecaps::{WhitecapInput, WhitecapState};
 use vr_ocean::sim::{AlignedBuf, Derivatives, OceanConfig, SimCore, SplitField, Surfaces};
 
 fn stages(c: &mut Criterion) {
@@ -120,9 +123,50 @@ fn stages(c: &mut Criterion) {
     }
 }
 
+/// The headset's scene: [`OceanConfig::default_cascades`] at N = 256 with central differences
+/// (the Android default), the whole step with its whitecap maps, and the maps' update alone.
+fn default_scene(c: &mut Criterion) {
+    let cfg = OceanConfig {
+        derivatives: Derivatives::Finite,
+        ..OceanConfig::default_cascades(256).unwrap()
+    };
+    for threads in [1usize, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let id = |what: &str| BenchmarkId::new(what, format!("N256x3/t{threads}"));
+        let mut g = c.benchmark_group("default_scene");
+        let mut core = pool.install(|| SimCore::new(cfg.clone()).unwrap());
+        let mut surfaces = Surfaces::new(&cfg);
+        let mut t = 0.0;
+        g.bench_function(id("step"), |b| {
+            b.iter(|| {
+                t += 1.0 / 72.0;
+                pool.install(|| core.step(t, &mut surfaces))
+            })
+        });
+        let mut state = WhitecapState::new(cfg.grid);
+        let mut caps = surfaces.whitecaps.clone();
+        g.bench_function(id("whitecaps"), |b| {
+            b.iter(|| {
+                let input = WhitecapInput {
+                    cascades: &surfaces.cascades,
+                    focus: [12.0, -30.0],
+                    foam: cfg.waves.foam,
+                    wind_speed: cfg.waves.wind_speed,
+                    dt: 1.0 / 72.0,
+                };
+                pool.install(|| state.update(input, &mut caps))
+            })
+        });
+        g.finish();
+    }
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20);
-    targets = stages
+    targets = stages, default_scene
 }
 criterion_main!(benches);
