@@ -7,7 +7,7 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 
-use vr_ocean::sim::evolve::{self, LoopPhase};
+use vr_ocean::sim::evolve::{self, LoopPhase, OutsideSupport};
 use vr_ocean::sim::fft::Fft2d;
 use vr_ocean::sim::spectrum::{cascade_bands, CascadeSpec, PackedSpectrum};
 use vr_ocean::sim::surface::{self, CascadeSurface, FloatCopies, SurfaceParams, Transformed};
@@ -50,7 +50,7 @@ fn stages(c: &mut Criterion) {
                 b.iter(|| {
                     pool.install(|| {
                         let at = LoopPhase::new(3.0, 200.0);
-                        evolve::evolve(&spectrum, 250.0, at, &mut fields, 0..n as usize)
+                        evolve::evolve(&spectrum, 250.0, at, &mut fields, OutsideSupport::Zeroed)
                     })
                 })
             });
@@ -79,7 +79,7 @@ fn stages(c: &mut Criterion) {
                             250.0,
                             LoopPhase::new(3.0, 200.0),
                             &mut finite,
-                            0..n as usize,
+                            OutsideSupport::Zeroed,
                         )
                     })
                 })

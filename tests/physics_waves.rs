@@ -8,7 +8,7 @@
 
 use glam::Vec3;
 use vr_ocean::physics::{BodyId, BodySpec, Floaters, PhysicsConfig, Pose, PHYSICS_DT};
-use vr_ocean::sim::evolve::{self, LoopPhase};
+use vr_ocean::sim::evolve::{self, LoopPhase, OutsideSupport};
 use vr_ocean::sim::fft::Fft2d;
 use vr_ocean::sim::spectrum::{self, PackedSpectrum};
 use vr_ocean::sim::surface::{self, SurfaceParams, Transformed};
@@ -89,7 +89,7 @@ impl Swell {
             self.patch,
             LoopPhase::new(t, self.period),
             &mut self.fields,
-            0..0,
+            OutsideSupport::Unwritten,
         );
         let support = &self.spectrum.support;
         self.fft

@@ -1,6 +1,6 @@
 //! Physics and numerics of the simulation core, end to end through the public API.
 
-use vr_ocean::sim::evolve::{self, LoopPhase};
+use vr_ocean::sim::evolve::{self, LoopPhase, OutsideSupport};
 use vr_ocean::sim::fft::Fft2d;
 use vr_ocean::sim::spectrum::{self, cascade_bands, CascadeSpec, PackedSpectrum};
 use vr_ocean::sim::surface::{self, CascadeSurface, FloatCopies, SurfaceParams, Transformed};
@@ -124,7 +124,7 @@ fn surface_of(
     let mut scratch: [SplitField; 4] = std::array::from_fn(|_| SplitField::zeros(grid));
     // The step's path: only the spectrum's support is evolved, read and transformed.
     let at = LoopPhase::new(t, period);
-    evolve::evolve(spec, patch, at, &mut fields, 0..0);
+    evolve::evolve(spec, patch, at, &mut fields, OutsideSupport::Unwritten);
     fft.inverse_batch_support(&mut fields, &mut scratch, &spec.support);
     let mut out = CascadeSurface::new(grid, patch, FloatCopies::Keep);
     let mut foam = AlignedBuf::zeros(grid.texels());
@@ -710,7 +710,7 @@ fn sparse_spectra_skip_their_zeros_and_change_nothing() {
         let mut scratch = [SplitField::zeros(grid)];
 
         let mut want: [SplitField; 4] = std::array::from_fn(|_| SplitField::zeros(grid));
-        evolve::evolve(&spec, patch, at, &mut want, 0..n);
+        evolve::evolve(&spec, patch, at, &mut want, OutsideSupport::Zeroed);
         for (r, c) in (0..n * n).map(|t| (t / n, t % n)) {
             if !(support.rows.contains(&r) && support.cols.contains(&c)) {
                 let zero = want
@@ -724,7 +724,7 @@ fn sparse_spectra_skip_their_zeros_and_change_nothing() {
         }
         fft.inverse_batch(&mut want, &mut scratch);
         let mut got = nan_fields::<4>(grid);
-        evolve::evolve(&spec, patch, at, &mut got, 0..0);
+        evolve::evolve(&spec, patch, at, &mut got, OutsideSupport::Unwritten);
         fft.inverse_batch_support(&mut got, &mut nan_fields::<1>(grid), &support);
         assert!(
             same_values(&got, &want),
@@ -732,10 +732,10 @@ fn sparse_spectra_skip_their_zeros_and_change_nothing() {
         );
 
         let mut want: [SplitField; 2] = std::array::from_fn(|_| SplitField::zeros(grid));
-        evolve::evolve_finite(&spec, patch, at, &mut want, 0..n);
+        evolve::evolve_finite(&spec, patch, at, &mut want, OutsideSupport::Zeroed);
         fft.inverse_batch(&mut want, &mut scratch);
         let mut got = nan_fields::<2>(grid);
-        evolve::evolve_finite(&spec, patch, at, &mut got, 0..0);
+        evolve::evolve_finite(&spec, patch, at, &mut got, OutsideSupport::Unwritten);
         fft.inverse_batch_support(&mut got, &mut nan_fields::<1>(grid), &support);
         assert!(
             same_values(&got, &want),

@@ -4,7 +4,7 @@
 
 use std::time::Instant;
 
-use crate::sim::evolve::{self, LoopPhase};
+use crate::sim::evolve::{self, LoopPhase, OutsideSupport};
 use crate::sim::fft::Fft2d;
 use crate::sim::grid::{AlignedBuf, GridSize, SplitField};
 use crate::sim::params::Derivatives;
@@ -93,9 +93,10 @@ impl CascadeSim {
         // The FFT neither reads nor needs the rows outside the spectrum's support: the
         // evolution writes no zeros there.
         let (spectrum, patch) = (&self.spectrum, self.spec.patch);
+        let outside = OutsideSupport::Unwritten;
         match &mut self.fields {
-            Fields::Spectral(f) => evolve::evolve(spectrum, patch, phase, f, 0..0),
-            Fields::Finite(f) => evolve::evolve_finite(spectrum, patch, phase, f, 0..0),
+            Fields::Spectral(f) => evolve::evolve(spectrum, patch, phase, f, outside),
+            Fields::Finite(f) => evolve::evolve_finite(spectrum, patch, phase, f, outside),
         }
         let t1 = Instant::now();
         let fields = self.fields.all();

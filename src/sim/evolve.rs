@@ -20,8 +20,6 @@
 //! each carry a minus sign; applied together with this table's X they would pull points away
 //! from crests, which folds the sea in its troughs.
 
-use std::ops::Range;
-
 use rayon::prelude::*;
 
 use crate::sim::grid::SplitField;
@@ -335,23 +333,32 @@ fn rows4(
         })
 }
 
+/// What [`evolve`] writes in the rows outside the spectrum's
+/// [`support`](PackedSpectrum::support), which are zero.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OutsideSupport {
+    /// Zeros: the whole field is written (for [`Fft2d::inverse_batch`]).
+    ///
+    /// [`Fft2d::inverse_batch`]: crate::sim::fft::Fft2d::inverse_batch
+    Zeroed,
+    /// Nothing: for [`Fft2d::inverse_batch_support`], which reads none of them.
+    ///
+    /// [`Fft2d::inverse_batch_support`]: crate::sim::fft::Fft2d::inverse_batch_support
+    Unwritten,
+}
+
 /// Writes the four packed field spectra at loop phase `phase` (eq. 24) for a cascade of patch
 /// size `patch` (m). Rows r and N − r are computed together (Hermitian symmetry), so the
 /// evolution and its spectrum reads cover half the grid. Rows outside the spectrum's
-/// [`support`](PackedSpectrum::support) are not evolved: only their columns `zeroed` are
-/// written, as zeros: `0..N` for the whole field, `0..0` for
-/// [`Fft2d::inverse_batch_support`](crate::sim::fft::Fft2d::inverse_batch_support), which
-/// reads none of them. Parallel over row pairs on the current Rayon pool; element-wise, so the
-/// output is the same for any thread count.
-///
-/// # Panics
-/// If `zeroed` reaches past the grid's side.
+/// [`support`](PackedSpectrum::support) are not evolved, only written as `outside` says.
+/// Parallel over row pairs on the current Rayon pool; element-wise, so the output is the same
+/// for any thread count.
 pub fn evolve(
     spectrum: &PackedSpectrum,
     patch: f32,
     phase: LoopPhase,
     fields: &mut [SplitField; 4],
-    zeroed: Range<usize>,
+    outside: OutsideSupport,
 ) {
     let [f0, f1, f2, f3] = fields;
     let (r0, i0) = f0.planes_mut();
@@ -359,34 +366,33 @@ pub fn evolve(
     let (r2, i2) = f2.planes_mut();
     let (r3, i3) = f3.planes_mut();
     let planes = [r0, i0, r1, i1, r2, i2, r3, i3];
-    evolve_planes::<false>(spectrum, patch, phase, planes, zeroed);
+    evolve_planes::<false>(spectrum, patch, phase, planes, outside);
 }
 
 /// [`evolve`] for [`Derivatives::Finite`](crate::sim::Derivatives): the spectra of h + i·X and
 /// Z + i·0 only (the surface stage differences them), half the planes and transforms.
-///
-/// # Panics
-/// If `zeroed` reaches past the grid's side.
 pub fn evolve_finite(
     spectrum: &PackedSpectrum,
     patch: f32,
     phase: LoopPhase,
     fields: &mut [SplitField; 2],
-    zeroed: Range<usize>,
+    outside: OutsideSupport,
 ) {
     let [f0, f1] = fields;
     let (r0, i0) = f0.planes_mut();
     let (r1, i1) = f1.planes_mut();
     let mut planes: [&mut [f32]; 8] = Default::default();
     [planes[0], planes[1], planes[2], planes[3]] = [r0, i0, r1, i1];
-    evolve_planes::<true>(spectrum, patch, phase, planes, zeroed);
+    evolve_planes::<true>(spectrum, patch, phase, planes, outside);
 }
 
-/// Writes zeros into columns `cols` of every plane of a row (the empty planes of the finite
-/// mode stay empty).
-fn zero_rows(rows: [&mut [f32]; 8], cols: &Range<usize>) {
-    for plane in rows.into_iter().filter(|p| !p.is_empty()) {
-        plane[cols.clone()].fill(0.0);
+/// A row outside the support, written as `outside` says (the empty planes of the finite mode
+/// stay empty).
+fn outside_row(rows: [&mut [f32]; 8], outside: OutsideSupport) {
+    if outside == OutsideSupport::Zeroed {
+        for plane in rows {
+            plane.fill(0.0);
+        }
     }
 }
 
@@ -396,13 +402,9 @@ fn evolve_planes<const FINITE: bool>(
     patch: f32,
     phase: LoopPhase,
     planes: [&mut [f32]; 8],
-    zeroed: Range<usize>,
+    outside: OutsideSupport,
 ) {
     let n = spectrum.grid.n();
-    assert!(
-        zeroed.end <= n,
-        "evolve: zeroed columns {zeroed:?} reach past the grid side {n}"
-    );
     let live = |r: usize| spectrum.support.rows.contains(&r);
     let half = n / 2;
     let k = EvolveConsts {
@@ -440,7 +442,7 @@ fn evolve_planes<const FINITE: bool>(
         if live(r) {
             evolve_rows::<FINITE>(row_of(r), out, Default::default());
         } else {
-            zero_rows(out, &zeroed);
+            outside_row(out, outside);
         }
     }
     // Rows 1..N/2 ascending pair with rows N−1..N/2+1 descending.
@@ -448,8 +450,8 @@ fn evolve_planes<const FINITE: bool>(
         if live(j + 1) || live(n - 1 - j) {
             evolve_rows::<FINITE>(row_of(j + 1), out, mirror);
         } else {
-            zero_rows(out, &zeroed);
-            zero_rows(mirror, &zeroed);
+            outside_row(out, outside);
+            outside_row(mirror, outside);
         }
     };
     if FINITE {
