@@ -12,7 +12,10 @@
 //! J = (1 + ∂X/∂x)(1 + ∂Z/∂z) − (∂X/∂z)(∂Z/∂x),
 //!
 //! i.e. the compression of a lattice cell, which filters out waves shorter than the cell (their
-//! sub-metre folds make no visible whitecap) and keeps every cascade's share of the rest.
+//! sub-metre folds make no visible whitecap) and keeps every cascade's share of the rest. Each
+//! cascade is sampled from the mip of its displacement whose texels match the lattice spacing
+//! ([`sampling`]), so the waves a lattice cannot hold are averaged out rather than aliased into
+//! compressions the sea does not have.
 //! Coverage then grows where J is below [`WHITECAP_THRESHOLD`] and decays everywhere
 //! ([`FoamParams::decay`]), so whitecaps linger after the crest has passed:
 //!
@@ -31,8 +34,11 @@
 //! the rows and columns that enter the window. Coverage is published as an R8 mip chain so
 //! distant water reads the area average instead of aliasing.
 
-use half::slice::HalfFloatSliceExt;
+mod sampling;
+
 use rayon::prelude::*;
+
+use sampling::{add_cascade, mip_for, DisplacementMips};
 
 use crate::sim::grid::GridSize;
 use crate::sim::params::FoamParams;
@@ -50,8 +56,9 @@ pub const WHITECAP_SPACING: [f32; WHITECAP_LEVELS] = [0.5, 2.0];
 
 /// Jacobian below which a lattice cell is breaking, per level. The coarser lattice filters
 /// more of the short waves' compression, so its threshold sits nearer 1 to give the same
-/// coverage of the same sea (measured in `tests/sea_state.rs`).
-pub const WHITECAP_THRESHOLD: [f32; WHITECAP_LEVELS] = [0.85, 0.885];
+/// coverage of the same sea (measured in `tests/sea_state.rs`; set with the cascades sampled
+/// from their mips, [`sampling`]).
+pub const WHITECAP_THRESHOLD: [f32; WHITECAP_LEVELS] = [0.855, 0.90];
 
 /// Foam produced per second per unit of (J_thr − J) at 10 m/s wind; scales with (U/10)².
 /// Calibrated so the default sea's mean coverage follows Monahan's law (see the module doc).
@@ -131,10 +138,8 @@ pub struct WhitecapState {
     /// Per level, Σ Dx and Σ Dz at the window's lattice points plus a one-point border,
     /// row-major ((T + 2)² each).
     xz: [Vec<[f32; 2]>; WHITECAP_LEVELS],
-    /// One cascade's (Dx, Dz) as f32, row-major, converted once per cascade and step from its
-    /// RGBA16F for the bilinear samples of both levels (converting the 8 halves of each sample
-    /// cost ~4 ms per cascade and step at N = 256 on Zen 3).
-    dxz: Vec<[f32; 2]>,
+    /// One cascade's (Dx, Dz) as f32 and the mips the levels sample (see [`sampling`]).
+    mips: DisplacementMips,
 }
 
 impl WhitecapState {
@@ -145,7 +150,7 @@ impl WhitecapState {
             foam: std::array::from_fn(|_| vec![0.0; t * t]),
             origin: [None; WHITECAP_LEVELS],
             xz: std::array::from_fn(|_| vec![[0.0; 2]; (t + 2) * (t + 2)]),
-            dxz: vec![[0.0; 2]; grid.texels()],
+            mips: DisplacementMips::new(grid),
         }
     }
 }
@@ -182,14 +187,12 @@ impl WhitecapState {
             xz.fill([0.0; 2]);
         }
         for c in input.cascades {
-            let texels = c.grid.texels();
-            if self.dxz.len() < texels {
-                self.dxz.resize(texels, [0.0; 2]);
-            }
-            let dxz = &mut self.dxz[..texels];
-            load_dxz(c, dxz);
+            // Each level samples the mip whose texels match its spacing.
+            let mips = WHITECAP_SPACING.map(|s| mip_for(c.grid.n(), c.patch, s));
+            self.mips.load(c, mips.into_iter().max().unwrap_or(0));
             for (l, xz) in self.xz.iter_mut().enumerate() {
-                add_cascade(c, dxz, origins[l], WHITECAP_SPACING[l], xz);
+                let level = self.mips.level(mips[l], c.patch);
+                add_cascade(level, origins[l], WHITECAP_SPACING[l], xz);
             }
         }
         for (l, level) in out.levels.iter_mut().enumerate() {
@@ -224,124 +227,6 @@ fn forget_outside(foam: &mut [f32], old: [i32; 2], new: [i32; 2]) {
             if !inside(i, old[0]) {
                 foam[row + slot(i)] = 0.0;
             }
-        }
-    }
-}
-
-/// Cascade `c`'s (Dx, Dz) into `dxz` as f32: from its f32 copy when kept, else converted
-/// from RGBA16F a row at a time (F16C or NEON where the CPU has it, through `half`).
-fn load_dxz(c: &CascadeSurface, dxz: &mut [[f32; 2]]) {
-    let n = c.grid.n();
-    if c.displacement.len() == dxz.len() {
-        dxz.par_chunks_mut(n)
-            .zip(c.displacement.par_chunks(n))
-            .for_each(|(out, row)| {
-                for (o, d) in out.iter_mut().zip(row) {
-                    *o = [d[0], d[2]];
-                }
-            });
-        return;
-    }
-    // One row buffer per rayon job, not per row (it is 16 KiB to clear).
-    let buffer = || [[0.0f32; 4]; GridSize::MAX as usize];
-    dxz.par_chunks_mut(n)
-        .zip(c.displacement_f16.par_chunks(n))
-        .for_each_init(buffer, |floats, (out, row)| {
-            let floats = &mut floats[..n];
-            row.as_flattened()
-                .convert_to_f32_slice(floats.as_flattened_mut());
-            for (o, d) in out.iter_mut().zip(floats.iter()) {
-                *o = [d[0], d[2]];
-            }
-        });
-}
-
-/// floor(u) as a texel index wrapped by `mask`, and u − floor(u): the bits of `f32::floor`
-/// (exact: |u| < 2²³ truncates exactly, larger f32 are whole) without libm's `floorf` call,
-/// which x86-64's baseline (no SSE4.1 rounding) made for every sample.
-#[inline]
-fn split(u: f32, mask: i64) -> (usize, f32) {
-    let t = u as i64;
-    let floor = t - i64::from(u < t as f32);
-    ((floor & mask) as usize, u - floor as f32)
-}
-
-/// Adds cascade `c`'s bilinear (Dx, Dz) (from its f32 `dxz`) at lattice points
-/// (origin − 1 .. origin + T + 1)·s to `xz`. The lattice columns' texel columns and weights are
-/// the same in every row: computed once.
-fn add_cascade(
-    c: &CascadeSurface,
-    dxz: &[[f32; 2]],
-    origin: [i32; 2],
-    s: f32,
-    xz: &mut [[f32; 2]],
-) {
-    const SIDE: usize = WHITECAP_TEXELS + 2;
-    let n = c.grid.n();
-    let mask = n as i64 - 1;
-    let scale = n as f32 / c.patch;
-    let x0 = (origin[0] - 1) as f32 * s;
-    let mut cols = [(0usize, 0usize, 0.0f32); SIDE];
-    for (i, col) in cols.iter_mut().enumerate() {
-        let (c0, tu) = split((x0 + i as f32 * s) * scale, mask);
-        *col = (c0, (c0 + 1) & (n - 1), tu);
-    }
-    xz.par_chunks_mut(SIDE).enumerate().for_each(|(r, row)| {
-        let z = (origin[1] - 1 + r as i32) as f32 * s;
-        let (r0, tv) = split(z * scale, mask);
-        let r1 = (r0 + 1) & (n - 1);
-        let (top, bottom) = (&dxz[r0 * n..(r0 + 1) * n], &dxz[r1 * n..(r1 + 1) * n]);
-        for (acc, &(c0, c1, tu)) in row.iter_mut().zip(&cols) {
-            let (a, b, e, f) = (top[c0], top[c1], bottom[c0], bottom[c1]);
-            for k in 0..2 {
-                let top = a[k] + (b[k] - a[k]) * tu;
-                let bottom = e[k] + (f[k] - e[k]) * tu;
-                acc[k] += top + (bottom - top) * tv;
-            }
-        }
-    });
-}
-
-/// The sampling before [`add_cascade`] (a row at a time, halves converted per sample): the
-/// reference its bits are tested against.
-#[cfg(test)]
-fn add_cascade_row(c: &CascadeSurface, z: f32, x0: f32, s: f32, row: &mut [[f32; 2]]) {
-    let n = c.grid.n();
-    let mask = n as i64 - 1;
-    let scale = n as f32 / c.patch;
-    let v = z * scale;
-    let fv = v.floor();
-    let tv = v - fv;
-    let r0 = fv as i64 & mask;
-    let r1 = (r0 + 1) & mask;
-    let (b0, b1) = (r0 as usize * n, r1 as usize * n);
-    // Full precision when the surface keeps it, else the RGBA16F copy.
-    let texel = |i: usize| -> [f32; 2] {
-        match c.displacement.get(i) {
-            Some(d) => [d[0], d[2]],
-            None => {
-                let d = &c.displacement_f16[i];
-                [half::f16::to_f32(d[0]), half::f16::to_f32(d[2])]
-            }
-        }
-    };
-    for (i, acc) in row.iter_mut().enumerate() {
-        let u = (x0 + i as f32 * s) * scale;
-        let fu = u.floor();
-        let tu = u - fu;
-        let c0 = fu as i64 & mask;
-        let c1 = ((c0 + 1) & mask) as usize;
-        let c0 = c0 as usize;
-        let (a, b, e, f) = (
-            texel(b0 + c0),
-            texel(b0 + c1),
-            texel(b1 + c0),
-            texel(b1 + c1),
-        );
-        for k in 0..2 {
-            let top = a[k] + (b[k] - a[k]) * tu;
-            let bottom = e[k] + (f[k] - e[k]) * tu;
-            acc[k] += top + (bottom - top) * tv;
         }
     }
 }
@@ -495,67 +380,6 @@ mod tests {
         // Mips hold the average.
         let last = *l0.coverage.last().unwrap() as f32 / 255.0;
         assert!((last - l0.mean).abs() < 0.02, "{last} vs {}", l0.mean);
-    }
-
-    /// The per-step f32 copy and the column table give the bits of sampling each point from
-    /// the halves, with or without the f32 copies, anywhere in the world.
-    #[test]
-    fn sampling_from_the_float_copy_gives_the_bits_of_the_halves() {
-        let grid = GridSize::new(64).unwrap();
-        let mut seed = 0x9e37_79b9u32;
-        let mut noise = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            seed as f32 / u32::MAX as f32 * 4.0 - 2.0
-        };
-        for keep in [FloatCopies::Skip, FloatCopies::Keep] {
-            let mut cascades: Vec<CascadeSurface> = [257.0, 69.5, 16.1]
-                .map(|l| CascadeSurface::new(grid, l, keep))
-                .into();
-            for c in &mut cascades {
-                for i in 0..grid.texels() {
-                    let d = [noise(), noise(), noise(), noise()];
-                    c.displacement_f16[i] = d.map(f16::from_f32);
-                    if let Some(f) = c.displacement.get_mut(i) {
-                        *f = d;
-                    }
-                }
-            }
-            let mut state = WhitecapState::new(grid);
-            for focus in [[0.0, 0.0], [-1234.56, 98765.4], [3.3e5, -7.1e4]] {
-                for (l, &s) in WHITECAP_SPACING.iter().enumerate() {
-                    let t = WHITECAP_TEXELS as i32;
-                    let origin = [
-                        (focus[0] / s).floor() as i32 - t / 2,
-                        (focus[1] / s).floor() as i32 - t / 2,
-                    ];
-                    let xz = &mut state.xz[l];
-                    xz.fill([0.0; 2]);
-                    for c in &cascades {
-                        load_dxz(c, &mut state.dxz);
-                        add_cascade(c, &state.dxz, origin, s, xz);
-                    }
-                    let side = WHITECAP_TEXELS + 2;
-                    for (r, row) in xz.chunks(side).enumerate() {
-                        let z = (origin[1] - 1 + r as i32) as f32 * s;
-                        let mut want = vec![[0.0f32; 2]; side];
-                        for c in &cascades {
-                            add_cascade_row(c, z, (origin[0] - 1) as f32 * s, s, &mut want);
-                        }
-                        let bits = |v: &[[f32; 2]]| -> Vec<u64> {
-                            v.iter()
-                                .map(|p| (p[0].to_bits() as u64) << 32 | p[1].to_bits() as u64)
-                                .collect()
-                        };
-                        assert!(
-                            bits(row) == bits(&want),
-                            "{keep:?} {focus:?} level {l} row {r}"
-                        );
-                    }
-                }
-            }
-        }
     }
 
     #[test]
