@@ -1,7 +1,7 @@
 //! One texel row of stages 5-6: displacement (eq. 42-44), the Jacobian (eq. 48), normals of
-//! the displaced surface (eq. 47), persistent foam and the RGBA8 encoding, in one vectorized
-//! loop per row behind runtime ISA dispatch (the RGBA16F displacement is converted from its
-//! planes afterwards, see [`super::f16_row`]).
+//! the displaced surface (eq. 47), persistent foam and the RGBA8 encoding, in two vectorized
+//! loops per row (the second normalizes the normals) behind runtime ISA dispatch (the RGBA16F
+//! displacement is converted from its planes afterwards, see [`super::f16_row`]).
 
 use crate::sim::grid::{GridSize, SplitField};
 use crate::sim::pack;

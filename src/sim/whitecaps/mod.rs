@@ -14,10 +14,10 @@
 //! i.e. the compression of a lattice cell, which filters out waves shorter than the cell (their
 //! sub-metre folds make no visible whitecap) and keeps every cascade's share of the rest. Each
 //! cascade is sampled from the mip of its displacement whose texels match the lattice spacing
-//! ([`sampling`]), so the waves a lattice cannot hold are averaged out rather than aliased into
-//! compressions the sea does not have.
-//! Coverage then grows where J is below [`WHITECAP_THRESHOLD`] and decays everywhere
-//! ([`FoamParams::decay`]), so whitecaps linger after the crest has passed:
+//! (`whitecaps/sampling.rs`), so the waves a lattice cannot hold are averaged out rather than
+//! aliased into compressions the sea does not have. Coverage then grows where J is below
+//! [`WHITECAP_THRESHOLD`] and decays everywhere ([`FoamParams::decay`]), so whitecaps linger
+//! after the crest has passed:
 //!
 //! f ← min(1, f·e^(−decay·dt) + G·(U/10 m/s)²·dt·max(0, J_thr − J)).
 //!
@@ -57,7 +57,7 @@ pub const WHITECAP_SPACING: [f32; WHITECAP_LEVELS] = [0.5, 2.0];
 /// Jacobian below which a lattice cell is breaking, per level. The coarser lattice filters
 /// more of the short waves' compression, so its threshold sits nearer 1 to give the same
 /// coverage of the same sea (measured in `tests/sea_state.rs`; set with the cascades sampled
-/// from their mips, [`sampling`]).
+/// from their mips, `whitecaps/sampling.rs`).
 pub const WHITECAP_THRESHOLD: [f32; WHITECAP_LEVELS] = [0.855, 0.90];
 
 /// Foam produced per second per unit of (J_thr − J) at 10 m/s wind; scales with (U/10)².
@@ -138,7 +138,7 @@ pub struct WhitecapState {
     /// Per level, Σ Dx and Σ Dz at the window's lattice points plus a one-point border,
     /// row-major ((T + 2)² each).
     xz: [Vec<[f32; 2]>; WHITECAP_LEVELS],
-    /// One cascade's (Dx, Dz) as f32 and the mips the levels sample (see [`sampling`]).
+    /// One cascade's (Dx, Dz) as f32 and the mips the levels sample (see `sampling`).
     mips: DisplacementMips,
 }
 
