@@ -6,8 +6,8 @@
 //! the sea does not have. The Jacobian of a lattice cell is meant to see only the waves the
 //! cell resolves (see the module above), so each cascade is sampled from the mip whose texel
 //! size L/N·2^m is nearest the spacing on a log scale: its 2^m × 2^m box average removes what
-//! the lattice cannot hold. The small mips also stay in L1, where full-resolution samples missed
-//! it at nearly every lattice point of the fine cascades.
+//! the lattice cannot hold. (It saves no time: the bilinear at every lattice point is
+//! compute-bound, and building the mips costs ~0.03 ms per step for three cascades.)
 
 use half::slice::HalfFloatSliceExt;
 use rayon::prelude::*;
