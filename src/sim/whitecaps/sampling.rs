@@ -155,8 +155,10 @@ fn split(u: f32, mask: i64) -> (usize, f32) {
 }
 
 /// Adds the bilinear (Dx, Dz) of one cascade's mip `view` at lattice points
-/// (origin − 1 .. origin + T + 1)·s to `xz`. The lattice columns' texel columns and weights are
-/// the same in every row: computed once.
+/// (origin − 1 .. origin + T + 1)·s to `xz`, separably: the lattice columns' texel columns and
+/// weights are the same in every row (computed once), so each texel row is sampled along x once
+/// ([`HeldRows`]) and a lattice row blends two of them. The same operations in the same order
+/// as a bilinear per point, so the same bits.
 pub(super) fn add_cascade(view: MipView<'_>, origin: [i32; 2], s: f32, xz: &mut [[f32; 2]]) {
     const SIDE: usize = WHITECAP_TEXELS + 2;
     let n = view.side;
@@ -168,20 +170,98 @@ pub(super) fn add_cascade(view: MipView<'_>, origin: [i32; 2], s: f32, xz: &mut 
         let (c0, tu) = split((x0 + i as f32 * s) * scale - offset, mask);
         *col = (c0, (c0 + 1) & (n - 1), tu);
     }
-    xz.par_chunks_mut(SIDE).enumerate().for_each(|(r, row)| {
+    // Texel row `r` sampled at the lattice's columns, linear in x.
+    let sample = |r: usize, out: &mut SampledRow| {
+        let src = &dxz[r * n..(r + 1) * n];
+        for (o, &(c0, c1, tu)) in out.iter_mut().zip(&cols) {
+            let (a, b) = (src[c0], src[c1]);
+            for k in 0..2 {
+                o[k] = a[k] + (b[k] - a[k]) * tu;
+            }
+        }
+    };
+    xz.par_chunks_mut(SIDE * ROWS_PER_TASK)
+        .enumerate()
+        .for_each(|(task, rows)| {
+            let mut held = HeldRows {
+                rows: [[[0.0; 2]; SIDE]; 2],
+                texel_row: [None; 2],
+            };
+            for (i, row) in rows.chunks_exact_mut(SIDE).enumerate() {
+                let r = task * ROWS_PER_TASK + i;
+                let z = (origin[1] - 1 + r as i32) as f32 * s;
+                let (r0, tv) = split(z * scale - offset, mask);
+                let r1 = (r0 + 1) & (n - 1);
+                let (top, bottom) = held.pair(r0, r1, &sample);
+                for ((acc, t), b) in row.iter_mut().zip(top).zip(bottom) {
+                    for k in 0..2 {
+                        acc[k] += t[k] + (b[k] - t[k]) * tv;
+                    }
+                }
+            }
+        });
+}
+
+/// Lattice rows per task of [`add_cascade`] (each task starts with no texel row held).
+const ROWS_PER_TASK: usize = 32;
+
+/// One texel row sampled along x at the lattice's columns (border included).
+type SampledRow = [[f32; 2]; WHITECAP_TEXELS + 2];
+
+/// The two texel rows (sampled along x) that [`add_cascade`]'s last lattice row blended, and
+/// which texel row each is. The mip's texels are about the lattice's spacing, so the next
+/// lattice row needs at most one new one.
+struct HeldRows {
+    rows: [SampledRow; 2],
+    texel_row: [Option<usize>; 2],
+}
+
+impl HeldRows {
+    /// Texel rows `r0` and `r1` (different), sampled by `sample` unless already held.
+    fn pair(
+        &mut self,
+        r0: usize,
+        r1: usize,
+        sample: &impl Fn(usize, &mut SampledRow),
+    ) -> (&SampledRow, &SampledRow) {
+        debug_assert_ne!(r0, r1);
+        let holds = |slot: usize, r: usize| self.texel_row[slot] == Some(r);
+        // Keep the slot that holds r0, else the one that holds r1; resample the other.
+        let top = usize::from(!(holds(0, r0) || (!holds(1, r0) && holds(1, r1))));
+        let bottom = 1 - top;
+        for (slot, r) in [(top, r0), (bottom, r1)] {
+            if self.texel_row[slot] != Some(r) {
+                sample(r, &mut self.rows[slot]);
+                self.texel_row[slot] = Some(r);
+            }
+        }
+        (&self.rows[top], &self.rows[bottom])
+    }
+}
+
+/// [`add_cascade`] one point at a time: the reference its separable bits are tested against.
+#[cfg(test)]
+fn add_cascade_per_point(view: MipView<'_>, origin: [i32; 2], s: f32, xz: &mut [[f32; 2]]) {
+    let side = WHITECAP_TEXELS + 2;
+    let n = view.side;
+    let mask = n as i64 - 1;
+    for (r, row) in xz.chunks_mut(side).enumerate() {
         let z = (origin[1] - 1 + r as i32) as f32 * s;
-        let (r0, tv) = split(z * scale - offset, mask);
+        let (r0, tv) = split(z * view.scale - view.offset, mask);
         let r1 = (r0 + 1) & (n - 1);
-        let (top, bottom) = (&dxz[r0 * n..(r0 + 1) * n], &dxz[r1 * n..(r1 + 1) * n]);
-        for (acc, &(c0, c1, tu)) in row.iter_mut().zip(&cols) {
-            let (a, b, e, f) = (top[c0], top[c1], bottom[c0], bottom[c1]);
+        let x0 = (origin[0] - 1) as f32 * s;
+        for (i, acc) in row.iter_mut().enumerate() {
+            let (c0, tu) = split((x0 + i as f32 * s) * view.scale - view.offset, mask);
+            let c1 = (c0 + 1) & (n - 1);
+            let at = |r: usize, c: usize| view.texels[r * n + c];
+            let (a, b, e, f) = (at(r0, c0), at(r0, c1), at(r1, c0), at(r1, c1));
             for k in 0..2 {
                 let top = a[k] + (b[k] - a[k]) * tu;
                 let bottom = e[k] + (f[k] - e[k]) * tu;
                 acc[k] += top + (bottom - top) * tv;
             }
         }
-    });
+    }
 }
 
 /// The sampling before [`add_cascade`] (level 0, a row at a time, halves converted per
@@ -291,6 +371,38 @@ mod tests {
                             "{keep:?} {focus:?} level {l} row {r}"
                         );
                     }
+                }
+            }
+        }
+    }
+
+    /// The separable sampling gives the bits of a bilinear per point on every mip, at both
+    /// spacings, anywhere in the world (texel rows shared by lattice rows or not).
+    #[test]
+    fn separable_sampling_gives_the_bits_of_the_bilinear_per_point() {
+        let grid = GridSize::new(64).unwrap();
+        let mut c = CascadeSurface::new(grid, 16.1, FloatCopies::Keep);
+        for (i, d) in c.displacement.iter_mut().enumerate() {
+            let x = i as f32 * 0.37;
+            *d = [x.sin(), 0.0, (1.3 * x).cos(), 0.0];
+        }
+        let mut mips = DisplacementMips::new(grid);
+        mips.load(&c, deepest(64));
+        let side = WHITECAP_TEXELS + 2;
+        for m in 0..=deepest(64) {
+            for &s in &WHITECAP_SPACING {
+                for origin in [[-128, -128], [1000, -37], [-90_000, 41_000]] {
+                    let view = mips.level(m, c.patch);
+                    let (mut got, mut want) =
+                        (vec![[0.5f32; 2]; side * side], vec![[0.5; 2]; side * side]);
+                    add_cascade(view, origin, s, &mut got);
+                    add_cascade_per_point(view, origin, s, &mut want);
+                    let bits =
+                        |v: &[[f32; 2]]| v.iter().map(|p| p.map(f32::to_bits)).collect::<Vec<_>>();
+                    assert!(
+                        bits(&got) == bits(&want),
+                        "mip {m}, spacing {s}, origin {origin:?}"
+                    );
                 }
             }
         }
