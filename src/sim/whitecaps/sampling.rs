@@ -264,50 +264,6 @@ fn add_cascade_per_point(view: MipView<'_>, origin: [i32; 2], s: f32, xz: &mut [
     }
 }
 
-/// The sampling before [`add_cascade`] (level 0, a row at a time, halves converted per
-/// sample): the reference its level-0 bits are tested against.
-#[cfg(test)]
-fn add_cascade_row(c: &CascadeSurface, z: f32, x0: f32, s: f32, row: &mut [[f32; 2]]) {
-    let n = c.grid.n();
-    let mask = n as i64 - 1;
-    let scale = n as f32 / c.patch;
-    let v = z * scale;
-    let fv = v.floor();
-    let tv = v - fv;
-    let r0 = fv as i64 & mask;
-    let r1 = (r0 + 1) & mask;
-    let (b0, b1) = (r0 as usize * n, r1 as usize * n);
-    // Full precision when the surface keeps it, else the RGBA16F copy.
-    let texel = |i: usize| -> [f32; 2] {
-        match c.displacement.get(i) {
-            Some(d) => [d[0], d[2]],
-            None => {
-                let d = &c.displacement_f16[i];
-                [half::f16::to_f32(d[0]), half::f16::to_f32(d[2])]
-            }
-        }
-    };
-    for (i, acc) in row.iter_mut().enumerate() {
-        let u = (x0 + i as f32 * s) * scale;
-        let fu = u.floor();
-        let tu = u - fu;
-        let c0 = fu as i64 & mask;
-        let c1 = ((c0 + 1) & mask) as usize;
-        let c0 = c0 as usize;
-        let (a, b, e, f) = (
-            texel(b0 + c0),
-            texel(b0 + c1),
-            texel(b1 + c0),
-            texel(b1 + c1),
-        );
-        for k in 0..2 {
-            let top = a[k] + (b[k] - a[k]) * tu;
-            let bottom = e[k] + (f[k] - e[k]) * tu;
-            acc[k] += top + (bottom - top) * tv;
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::super::WHITECAP_SPACING;
@@ -315,10 +271,16 @@ mod tests {
     use crate::sim::surface::FloatCopies;
     use half::f16;
 
-    /// At level 0, the per-step f32 copy and the column table give the bits of sampling each
-    /// point from the halves, with or without the f32 copies, anywhere in the world.
+    /// The bit patterns of `v`, for exact comparisons.
+    fn bits(v: &[[f32; 2]]) -> Vec<[u32; 2]> {
+        v.iter().map(|p| p.map(f32::to_bits)).collect()
+    }
+
+    /// Level 0 holds each texel's (Dx, Dz) exactly as the surface has it (the f32 copy when
+    /// kept, else the halves), and sampling it gives the bits of a bilinear per point, for
+    /// every default cascade and both spacings, anywhere in the world.
     #[test]
-    fn sampling_from_the_float_copy_gives_the_bits_of_the_halves() {
+    fn level_zero_is_the_surface_and_samples_like_the_bilinear_per_point() {
         let grid = GridSize::new(64).unwrap();
         let mut seed = 0x9e37_79b9u32;
         let mut noise = || {
@@ -341,34 +303,36 @@ mod tests {
                 }
             }
             let mut mips = DisplacementMips::new(grid);
-            let mut xz = vec![[0.0f32; 2]; (WHITECAP_TEXELS + 2).pow(2)];
-            for focus in [[0.0, 0.0], [-1234.56, 98765.4], [3.3e5, -7.1e4]] {
-                for (l, &s) in WHITECAP_SPACING.iter().enumerate() {
-                    let t = WHITECAP_TEXELS as i32;
-                    let origin = [
-                        (focus[0] / s).floor() as i32 - t / 2,
-                        (focus[1] / s).floor() as i32 - t / 2,
-                    ];
-                    xz.fill([0.0; 2]);
-                    for c in &cascades {
-                        mips.load(c, 0);
-                        add_cascade(mips.level(0, c.patch), origin, s, &mut xz);
-                    }
-                    let side = WHITECAP_TEXELS + 2;
-                    for (r, row) in xz.chunks(side).enumerate() {
-                        let z = (origin[1] - 1 + r as i32) as f32 * s;
-                        let mut want = vec![[0.0f32; 2]; side];
-                        for c in &cascades {
-                            add_cascade_row(c, z, (origin[0] - 1) as f32 * s, s, &mut want);
+            let side = WHITECAP_TEXELS + 2;
+            for c in &cascades {
+                mips.load(c, 0);
+                let level = mips.level(0, c.patch);
+                for (i, got) in level.texels.iter().enumerate() {
+                    let want = match c.displacement.get(i) {
+                        Some(d) => [d[0], d[2]],
+                        None => {
+                            [c.displacement_f16[i][0], c.displacement_f16[i][2]].map(f16::to_f32)
                         }
-                        let bits = |v: &[[f32; 2]]| -> Vec<u64> {
-                            v.iter()
-                                .map(|p| (p[0].to_bits() as u64) << 32 | p[1].to_bits() as u64)
-                                .collect()
-                        };
+                    };
+                    assert!(bits(&[*got]) == bits(&[want]), "{keep:?} texel {i}");
+                }
+                for focus in [[0.0, 0.0], [-1234.56, 98765.4], [3.3e5, -7.1e4]] {
+                    for (l, &s) in WHITECAP_SPACING.iter().enumerate() {
+                        let t = WHITECAP_TEXELS as i32;
+                        let origin = [
+                            (focus[0] / s).floor() as i32 - t / 2,
+                            (focus[1] / s).floor() as i32 - t / 2,
+                        ];
+                        let (mut got, mut want) = (
+                            vec![[0.25f32; 2]; side * side],
+                            vec![[0.25; 2]; side * side],
+                        );
+                        add_cascade(level, origin, s, &mut got);
+                        add_cascade_per_point(level, origin, s, &mut want);
                         assert!(
-                            bits(row) == bits(&want),
-                            "{keep:?} {focus:?} level {l} row {r}"
+                            bits(&got) == bits(&want),
+                            "{keep:?} patch {} {focus:?} level {l}",
+                            c.patch
                         );
                     }
                 }
@@ -397,8 +361,6 @@ mod tests {
                         (vec![[0.5f32; 2]; side * side], vec![[0.5; 2]; side * side]);
                     add_cascade(view, origin, s, &mut got);
                     add_cascade_per_point(view, origin, s, &mut want);
-                    let bits =
-                        |v: &[[f32; 2]]| v.iter().map(|p| p.map(f32::to_bits)).collect::<Vec<_>>();
                     assert!(
                         bits(&got) == bits(&want),
                         "mip {m}, spacing {s}, origin {origin:?}"
