@@ -8,11 +8,11 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 
 use vr_ocean::sim::evolve::{self, LoopPhase, OutsideSupport};
-use vr_ocean::sim::fft::Fft2d;
+use vr_ocean::sim::fft::{Fft2d, Output};
 use vr_ocean::sim::spectrum::{cascade_bands, CascadeSpec, PackedSpectrum};
 use vr_ocean::sim::surface::{self, CascadeSurface, FloatCopies, SurfaceParams, Transformed};
 use vr_ocean::sim::whitecaps::{WhitecapInput, WhitecapState};
-use vr_ocean::sim::{AlignedBuf, Derivatives, OceanConfig, SimCore, SplitField, Surfaces};
+use vr_ocean::sim::{AlignedBuf, Derivatives, OceanConfig, SimCore, SplitField, Support, Surfaces};
 
 fn stages(c: &mut Criterion) {
     for n in [128u32, 256, 512] {
@@ -85,7 +85,15 @@ fn stages(c: &mut Criterion) {
                 })
             });
             g.bench_function(id("stage3_4_fft2"), |b| {
-                b.iter(|| pool.install(|| fft.inverse_batch(&mut finite, &mut scratch[..2])))
+                // As the step: h + i·X whole, Z as row pairs.
+                let outputs = [Output::Complex, Output::RealRowPairs];
+                let whole = Support::full(grid);
+                b.iter(|| {
+                    pool.install(|| {
+                        let scratch = &mut scratch[..2];
+                        fft.inverse_batch_support_as(&mut finite, &outputs, scratch, &whole)
+                    })
+                })
             });
             g.bench_function(id("stage5_6_surface_finite"), |b| {
                 b.iter(|| {

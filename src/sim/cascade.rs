@@ -5,7 +5,7 @@
 use std::time::Instant;
 
 use crate::sim::evolve::{self, LoopPhase, OutsideSupport};
-use crate::sim::fft::Fft2d;
+use crate::sim::fft::{Fft2d, Output};
 use crate::sim::grid::{AlignedBuf, GridSize, SplitField};
 use crate::sim::params::Derivatives;
 use crate::sim::spectrum::{CascadeSpec, PackedSpectrum};
@@ -30,11 +30,12 @@ impl Fields {
         }
     }
 
-    /// Every field, for the FFT.
-    fn all(&mut self) -> &mut [SplitField] {
+    /// Every field, for the FFT, with what it makes of each: Z, the finite mode's second
+    /// field, is real and comes as row pairs (three-quarters of a transform).
+    fn all(&mut self) -> (&mut [SplitField], &'static [Output]) {
         match self {
-            Fields::Spectral(f) => &mut f[..],
-            Fields::Finite(f) => &mut f[..],
+            Fields::Spectral(f) => (&mut f[..], &[Output::Complex; 4]),
+            Fields::Finite(f) => (&mut f[..], &[Output::Complex, Output::RealRowPairs]),
         }
     }
 
@@ -99,9 +100,10 @@ impl CascadeSim {
             Fields::Finite(f) => evolve::evolve_finite(spectrum, patch, phase, f, outside),
         }
         let t1 = Instant::now();
-        let fields = self.fields.all();
+        let (fields, outputs) = self.fields.all();
         let groups = scratch.len().min(fields.len());
-        fft.inverse_batch_support(fields, &mut scratch[..groups], &self.spectrum.support);
+        let support = &self.spectrum.support;
+        fft.inverse_batch_support_as(fields, outputs, &mut scratch[..groups], support);
         let t2 = Instant::now();
         surface::finalize(self.fields.transformed(), &mut self.foam, params, t, out);
         let t3 = Instant::now();

@@ -16,6 +16,7 @@
 
 use std::ops::Range;
 
+use super::first_stage::{first_stage, Source};
 use super::plan::{CRow, Plan, Stage, L1_ROWS, STRIP};
 
 /// The vector operations the kernel needs. Implemented by zero-sized "proof" tokens: a value of
@@ -54,20 +55,20 @@ pub(super) trait Simd: Copy {
 
 /// A split complex vector: LANES adjacent columns.
 #[derive(Clone, Copy)]
-struct C<V> {
-    re: V,
-    im: V,
+pub(super) struct C<V> {
+    pub re: V,
+    pub im: V,
 }
 
 /// A complex twiddle factor, broadcast to all lanes.
 #[derive(Clone, Copy)]
-struct Tw<V> {
-    re: V,
-    im: V,
+pub(super) struct Tw<V> {
+    pub re: V,
+    pub im: V,
 }
 
 #[inline(always)]
-fn cmul<S: Simd>(s: S, a: C<S::V>, w: Tw<S::V>) -> C<S::V> {
+pub(super) fn cmul<S: Simd>(s: S, a: C<S::V>, w: Tw<S::V>) -> C<S::V> {
     C {
         re: s.neg_mul_add(a.im, w.im, s.mul(a.re, w.re)),
         im: s.mul_add(a.re, w.im, s.mul(a.im, w.re)),
@@ -76,7 +77,7 @@ fn cmul<S: Simd>(s: S, a: C<S::V>, w: Tw<S::V>) -> C<S::V> {
 
 /// Radix-4 inverse butterfly (no twiddles): `y_k = Σ_p x_p·i^(pk)`.
 #[inline(always)]
-fn bfly4<S: Simd>(s: S, x: [C<S::V>; 4]) -> [C<S::V>; 4] {
+pub(super) fn bfly4<S: Simd>(s: S, x: [C<S::V>; 4]) -> [C<S::V>; 4] {
     let [a, b, c, d] = x;
     let t0 = C {
         re: s.add(a.re, c.re),
@@ -118,7 +119,7 @@ fn bfly4<S: Simd>(s: S, x: [C<S::V>; 4]) -> [C<S::V>; 4] {
 
 /// Twiddles of radix-4 butterfly `j` of a stage, broadcast.
 #[inline(always)]
-fn tw4<S: Simd>(s: S, tw: &[f32], j: usize) -> [Tw<S::V>; 3] {
+pub(super) fn tw4<S: Simd>(s: S, tw: &[f32], j: usize) -> [Tw<S::V>; 3] {
     let w = &tw[6 * j..6 * j + 6];
     [
         Tw {
@@ -145,14 +146,14 @@ fn load_row<S: Simd>(s: S, row: &CRow, o: usize) -> C<S::V> {
 }
 
 #[inline(always)]
-fn store_row<S: Simd>(s: S, row: &mut CRow, o: usize, v: C<S::V>) {
+pub(super) fn store_row<S: Simd>(s: S, row: &mut CRow, o: usize, v: C<S::V>) {
     s.store(&mut row.re[o..], v.re);
     s.store(&mut row.im[o..], v.im);
 }
 
 /// Splits `rows` into four equal quarters.
 #[inline(always)]
-fn quarters(rows: &mut [CRow]) -> [&mut [CRow]; 4] {
+pub(super) fn quarters(rows: &mut [CRow]) -> [&mut [CRow]; 4] {
     let q = rows.len() / 4;
     let (a, rest) = rows.split_at_mut(q);
     let (b, rest) = rest.split_at_mut(q);
@@ -161,7 +162,7 @@ fn quarters(rows: &mut [CRow]) -> [&mut [CRow]; 4] {
 }
 
 /// Floats in one STRIP×STRIP tile of the intermediate layout.
-const TILE: usize = STRIP * STRIP;
+pub(super) const TILE: usize = STRIP * STRIP;
 
 /// One pass's worth of work: some strips of one field. Chunk k of `dst_*` (each chunk
 /// `STRIP·N` floats) receives strip `first_strip + k` of the source, transformed and transposed.
@@ -186,6 +187,14 @@ pub(super) struct Job<'a> {
     /// Pass 1 (natural field → tiled intermediate) or pass 2 (tiled intermediate → natural
     /// field, transposed back).
     pub first_pass: bool,
+    /// Columns of the source: the field's side in pass 1, pass 1's transform length in pass 2
+    /// (the two differ for a folded transform; `width / STRIP` strips in all).
+    pub width: usize,
+    /// Pass 1 of a folded transform (see [`super::Fft2d::inverse_batch_support_as`]): the
+    /// factors i·ω^r, ω = exp(+2πi/2L), of rows r < L = `plan.n` as (re, im) pairs. Source row
+    /// r then becomes (x_r + x_(r+L)) + i·ω^r·(x_r − x_(r+L)): the first radix-2 step of the
+    /// length-2L transform, its even and odd outputs packed as real and imaginary parts.
+    pub fold: Option<&'a [f32]>,
 }
 
 /// Runs one pass over the strips of `job`: reads columns of the source, writes their 1D inverse
@@ -196,17 +205,6 @@ pub(super) fn pass<S: Simd>(s: S, plan: &Plan, job: Job<'_>, local: &mut [CRow])
         pass_impl::<S, true>(s, plan, job, local);
     } else {
         pass_impl::<S, false>(s, plan, job, local);
-    }
-}
-
-/// Offset of the STRIP source values of row `r` of strip `strip`: natural row-major in pass 1,
-/// tiled in pass 2.
-#[inline(always)]
-fn src_at<const FIRST: bool>(n: usize, strip: usize, r: usize) -> usize {
-    if FIRST {
-        r * n + strip * STRIP
-    } else {
-        ((r / STRIP) * (n / STRIP) + strip) * TILE + (r % STRIP) * STRIP
     }
 }
 
@@ -237,94 +235,26 @@ fn pass_impl<S: Simd, const FIRST: bool>(s: S, plan: &Plan, job: Job<'_>, local:
             re: job.src_re,
             im: job.src_im,
             rows: job.src_rows.clone(),
+            width: job.width,
+            fold: job.fold.unwrap_or(&[]),
         };
         // The whole-field path keeps its loop free of the row test.
-        if src.rows == (0..n) {
-            first_stage::<S, FIRST, false>(s, plan, &src, strip, local);
-        } else {
-            first_stage::<S, FIRST, true>(s, plan, &src, strip, local);
+        match (job.fold.is_some(), src.rows == (0..n)) {
+            (false, true) => first_stage::<S, FIRST, false, false>(s, plan, &src, strip, local),
+            (false, false) => first_stage::<S, FIRST, true, false>(s, plan, &src, strip, local),
+            // Only pass 1 folds.
+            (true, _) if FIRST => {
+                if src.rows == (0..2 * n) {
+                    first_stage::<S, true, false, true>(s, plan, &src, strip, local)
+                } else {
+                    first_stage::<S, true, true, true>(s, plan, &src, strip, local)
+                }
+            }
+            (true, _) => unreachable!("pass 2 never folds"),
         }
         later_stages(s, plan, local);
         store_transposed::<S, FIRST>(s, plan, local, dre, dim);
     }
-}
-
-/// A pass's source planes and the rows of them that may hold non-zeros.
-struct Source<'a> {
-    re: &'a [f32],
-    im: &'a [f32],
-    rows: Range<usize>,
-}
-
-/// Zeros standing in for a source row outside [`Source::rows`].
-const ZERO_ROW: [f32; STRIP] = [0.0; STRIP];
-
-/// The first radix-4 stage: source rows in, working buffer out. With `SPARSE`, rows outside
-/// [`Source::rows`] are zeros, not read.
-#[inline(always)]
-fn first_stage<S: Simd, const FIRST: bool, const SPARSE: bool>(
-    s: S,
-    plan: &Plan,
-    src: &Source<'_>,
-    strip: usize,
-    local: &mut [CRow],
-) {
-    let n = plan.n;
-    let st = plan.stages[0];
-    debug_assert!(st.radix == 4 && st.len == n);
-    let tw = &plan.twiddles[st.tw..];
-    let q = n / 4;
-    let [l0, l1, l2, l3] = quarters(local);
-    for j in 0..q {
-        let w = tw4(s, tw, j);
-        // The source row j + p·q of both planes, or zeros outside the live rows.
-        let row = |p: usize| -> (&[f32; STRIP], &[f32; STRIP]) {
-            let r = j + p * q;
-            if !SPARSE || src.rows.contains(&r) {
-                let at = src_at::<FIRST>(n, strip, r);
-                (src_row(src.re, at), src_row(src.im, at))
-            } else {
-                (&ZERO_ROW, &ZERO_ROW)
-            }
-        };
-        let (r0, r1, r2, r3) = (row(0), row(1), row(2), row(3));
-        let re = [r0.0, r1.0, r2.0, r3.0];
-        let im = [r0.1, r1.1, r2.1, r3.1];
-        for h in 0..STRIP / S::LANES {
-            let o = h * S::LANES;
-            let x = [
-                C {
-                    re: s.load(&re[0][o..]),
-                    im: s.load(&im[0][o..]),
-                },
-                C {
-                    re: s.load(&re[1][o..]),
-                    im: s.load(&im[1][o..]),
-                },
-                C {
-                    re: s.load(&re[2][o..]),
-                    im: s.load(&im[2][o..]),
-                },
-                C {
-                    re: s.load(&re[3][o..]),
-                    im: s.load(&im[3][o..]),
-                },
-            ];
-            let [y0, y1, y2, y3] = bfly4(s, x);
-            store_row(s, &mut l0[j], o, y0);
-            store_row(s, &mut l1[j], o, cmul(s, y1, w[0]));
-            store_row(s, &mut l2[j], o, cmul(s, y2, w[1]));
-            store_row(s, &mut l3[j], o, cmul(s, y3, w[2]));
-        }
-    }
-}
-
-/// The [`STRIP`] source values at `at`.
-#[inline(always)]
-fn src_row(plane: &[f32], at: usize) -> &[f32; STRIP] {
-    plane[at..at + STRIP]
-        .try_into()
-        .expect("strip inside the field")
 }
 
 /// All stages after the first, in place. Stages on sub-transforms larger than [`L1_ROWS`] run

@@ -1,8 +1,9 @@
 //! Our inverse 2D FFT: f32, split complex, N×N for N a power of two in 16..=1024.
 //!
 //! # Design
-//! A planner ([`Fft2d`]) sits above one generic kernel (`kernel.rs`) instantiated per SIMD
-//! backend (`scalar.rs`, `x86.rs`, `neon.rs`), chosen at runtime.
+//! A planner ([`Fft2d`]) sits above one generic kernel (`kernel.rs`, its first stage in
+//! `first_stage.rs`) instantiated per SIMD backend (`scalar.rs`, `x86.rs`, `neon.rs`), chosen
+//! at runtime (`backend.rs`).
 //!
 //! The 2D transform is two passes, field → scratch → field, of one kernel. A pass walks its
 //! source in strips of 16 adjacent columns; SIMD lanes hold adjacent columns, so the column FFT
@@ -20,6 +21,12 @@
 //! reads only its rows; pass 2 reads only the intermediate rows of its columns (zeros stand in
 //! for the rest, which is never read nor written).
 //!
+//! A Hermitian spectrum's real result can come as row pairs ([`Output::RealRowPairs`], the
+//! finite-difference mode's Z): pass 1's first stage folds spectrum rows r and r + N/2 into one
+//! (the column transform's first radix-2 step, even and odd outputs packed as re and im), so
+//! pass 1 runs length-N/2 column transforms and pass 2 half the strips. Measured alone at
+//! N = 256 it takes 0.67-0.70 of a complex transform (docs/notes/fft-128bit.md).
+//!
 //! Scratch content after a call is unspecified. `SimCore` owns 2 scratch fields up to N = 256
 //! with two or more threads (the four transforms go in two groups: fewer fork-joins), else 1
 //! (cache; see `scratch_fields` in `step.rs`); the grouping never changes the bits.
@@ -28,6 +35,8 @@
 //! [`Fft2d::new`]; transforms allocate nothing and only use a stack working buffer of
 //! N × 128 bytes (128 KiB at N = 1024).
 
+mod backend;
+mod first_stage;
 mod kernel;
 #[cfg(target_arch = "aarch64")]
 mod neon;
@@ -39,216 +48,14 @@ mod tests;
 mod x86;
 
 use std::ops::Range;
-use std::sync::atomic::{AtomicU8, Ordering};
 
 use rayon::prelude::*;
 
 use crate::sim::grid::{GridSize, SplitField, Support};
-use crate::sim::simd::Tier;
+use backend::Imp;
+pub use backend::{force_backend, forced_backend, Backend, UnavailableBackend};
 use kernel::Job;
 use plan::{CRow, Plan, STRIP};
-
-/// An instruction-set implementation of the kernel. All variants exist on every target so code
-/// can name them portably; [`Backend::available`] lists the ones this CPU can run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Backend {
-    /// Portable code over `[f32; 4]` (whatever the compiler makes of it). Runs everywhere.
-    Scalar,
-    /// x86_64 SSE2, 4 lanes, no FMA. Always present on x86_64.
-    Sse2,
-    /// x86_64 AVX2 + FMA, 8 lanes.
-    Avx2,
-    /// x86_64 AVX-512F, 16 lanes.
-    Avx512,
-    /// aarch64 NEON (AdvSIMD), 4 lanes with FMA. Always present on aarch64.
-    Neon,
-}
-
-impl Backend {
-    /// Every backend, in the order of [`Backend::available`] on the target that has it.
-    pub const ALL: [Backend; 5] = [
-        Backend::Scalar,
-        Backend::Sse2,
-        Backend::Avx2,
-        Backend::Avx512,
-        Backend::Neon,
-    ];
-
-    /// The backend named as [`Backend`]'s `Display` writes it (`scalar`, `sse2`, `avx2`,
-    /// `avx512`, `neon`), ASCII case ignored.
-    pub fn from_name(name: &str) -> Option<Backend> {
-        Self::ALL
-            .into_iter()
-            .find(|b| b.to_string().eq_ignore_ascii_case(name.trim()))
-    }
-
-    /// Whether this CPU (and target) can run the backend.
-    pub fn is_available(self) -> bool {
-        Imp::new(self).is_some()
-    }
-
-    /// The tier of the element-wise kernels ([`crate::sim::simd`]) that goes with this FFT
-    /// backend: the same vector width where one exists (AVX2, AVX-512), else the target's
-    /// baseline (SSE2 on x86-64, NEON on aarch64: the element-wise kernels have no tier below it).
-    pub fn element_tier(self) -> Tier {
-        match self {
-            Backend::Avx512 => Tier::Avx512,
-            Backend::Avx2 => Tier::Avx2,
-            Backend::Scalar | Backend::Sse2 | Backend::Neon => Tier::Baseline,
-        }
-    }
-
-    /// The backend [`Fft2d::new`] plans on: the one [`force_backend`] set, else [`Backend::detect`].
-    pub fn preferred() -> Backend {
-        forced_backend().unwrap_or_else(Backend::detect)
-    }
-
-    /// The fastest backend this CPU supports. On x86_64 the preference is
-    /// AVX-512 > AVX2 > SSE2 (AVX-512 measured faster than AVX2 on Zen 5, see `benches/fft.rs`);
-    /// on aarch64 NEON.
-    pub fn detect() -> Backend {
-        Self::available()
-            .into_iter()
-            .last()
-            .unwrap_or(Backend::Scalar)
-    }
-
-    /// Every backend this CPU can run, slowest first (Scalar is always first).
-    pub fn available() -> Vec<Backend> {
-        let mut v = vec![Backend::Scalar];
-        #[cfg(target_arch = "x86_64")]
-        {
-            v.push(Backend::Sse2);
-            if x86::Avx2::detect().is_some() {
-                v.push(Backend::Avx2);
-            }
-            if x86::Avx512::detect().is_some() {
-                v.push(Backend::Avx512);
-            }
-        }
-        #[cfg(target_arch = "aarch64")]
-        if neon::Neon::detect().is_some() {
-            v.push(Backend::Neon);
-        }
-        v
-    }
-}
-
-impl std::fmt::Display for Backend {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Backend::Scalar => "scalar",
-            Backend::Sse2 => "sse2",
-            Backend::Avx2 => "avx2",
-            Backend::Avx512 => "avx512",
-            Backend::Neon => "neon",
-        })
-    }
-}
-
-/// [`force_backend`]'s choice: 0 for none, else 1 + the index in [`Backend::ALL`].
-static FORCED: AtomicU8 = AtomicU8::new(NOT_FORCED);
-
-/// [`FORCED`] when no backend is forced.
-const NOT_FORCED: u8 = 0;
-
-/// A backend this CPU cannot run was asked for ([`force_backend`], `vr-ocean bench --tiers`).
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct UnavailableBackend {
-    /// The backend asked for.
-    pub wanted: Backend,
-    /// What this CPU runs instead ([`Backend::available`]).
-    pub available: Vec<Backend>,
-}
-
-impl std::fmt::Display for UnavailableBackend {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let names: Vec<String> = self.available.iter().map(|b| b.to_string()).collect();
-        write!(
-            f,
-            "SIMD tier {} is not available on this CPU or target (available: {})",
-            self.wanted,
-            names.join(", ")
-        )
-    }
-}
-
-impl std::error::Error for UnavailableBackend {}
-
-/// Makes every later [`Fft2d::new`] (and so every `SimCore` created afterwards) plan on `b`
-/// instead of the fastest backend, process-wide; `None` restores the default. Plans made before
-/// keep their backend. For benchmarks that measure a lower tier on a CPU that has a higher one
-/// (the 128-bit SSE2 path stands in for the headset's NEON); the element-wise kernels have
-/// their own cap ([`crate::sim::simd::cap_tier`], see [`Backend::element_tier`]).
-///
-/// # Errors
-/// [`UnavailableBackend`] (and nothing changes) if this CPU or target cannot run `b`.
-pub fn force_backend(b: Option<Backend>) -> Result<(), UnavailableBackend> {
-    let code = match b {
-        None => NOT_FORCED,
-        Some(b) if b.is_available() => forced_code(b),
-        Some(wanted) => {
-            return Err(UnavailableBackend {
-                wanted,
-                available: Backend::available(),
-            })
-        }
-    };
-    FORCED.store(code, Ordering::Relaxed);
-    Ok(())
-}
-
-/// The backend [`force_backend`] set, if any.
-pub fn forced_backend() -> Option<Backend> {
-    backend_of_code(FORCED.load(Ordering::Relaxed))
-}
-
-/// [`FORCED`]'s encoding of `b`.
-fn forced_code(b: Backend) -> u8 {
-    let i = Backend::ALL
-        .iter()
-        .position(|&x| x == b)
-        .expect("ALL lists every backend");
-    i as u8 + 1
-}
-
-/// The backend [`FORCED`] value `code` stands for.
-fn backend_of_code(code: u8) -> Option<Backend> {
-    code.checked_sub(1)
-        .and_then(|i| Backend::ALL.get(i as usize).copied())
-}
-
-/// The selected backend together with its proof-of-support token.
-#[derive(Clone, Copy, Debug)]
-enum Imp {
-    Scalar,
-    #[cfg(target_arch = "x86_64")]
-    Sse2(x86::Sse2),
-    #[cfg(target_arch = "x86_64")]
-    Avx2(x86::Avx2),
-    #[cfg(target_arch = "x86_64")]
-    Avx512(x86::Avx512),
-    #[cfg(target_arch = "aarch64")]
-    Neon(neon::Neon),
-}
-
-impl Imp {
-    fn new(b: Backend) -> Option<Imp> {
-        match b {
-            Backend::Scalar => Some(Imp::Scalar),
-            #[cfg(target_arch = "x86_64")]
-            Backend::Sse2 => Some(Imp::Sse2(x86::Sse2::new())),
-            #[cfg(target_arch = "x86_64")]
-            Backend::Avx2 => x86::Avx2::detect().map(Imp::Avx2),
-            #[cfg(target_arch = "x86_64")]
-            Backend::Avx512 => x86::Avx512::detect().map(Imp::Avx512),
-            #[cfg(target_arch = "aarch64")]
-            Backend::Neon => neon::Neon::detect().map(Imp::Neon),
-            #[allow(unreachable_patterns)]
-            _ => None,
-        }
-    }
-}
 
 /// A planned inverse 2D FFT of one grid size on one backend. Immutable after [`Fft2d::new`], so
 /// one instance can be shared by all threads.
@@ -257,6 +64,24 @@ pub struct Fft2d {
     backend: Backend,
     imp: Imp,
     plan: Plan,
+    /// The length-N/2 plan of a folded transform's first pass ([`Output::RealRowPairs`]);
+    /// `None` at N = 16, whose folded output is made from the whole transform.
+    half: Option<Plan>,
+    /// i·exp(+2πi·r/N) for r < N/2 as (re, im) pairs: the fold's factors ([`kernel::Job::fold`]).
+    fold: Vec<f32>,
+}
+
+/// What [`Fft2d::inverse_batch_support_as`] makes of one field.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Output {
+    /// The whole complex result, natural order (as [`Fft2d::inverse`]).
+    Complex,
+    /// For a Hermitian spectrum, whose result x is real: x's rows 2p and 2p + 1 as the real
+    /// and imaginary plane of row p < N/2 (rows N/2.. are left unspecified). The spectrum's
+    /// rows r and r + N/2 are folded into one (the first radix-2 step of the column transform,
+    /// the even and odd outputs packed as one complex row), so both passes run over half the
+    /// rows: three-quarters of the work of [`Output::Complex`].
+    RealRowPairs,
 }
 
 impl Fft2d {
@@ -271,11 +96,20 @@ impl Fft2d {
     /// Plans the inverse FFT of `size` on backend `b`; `None` if this CPU (or target) lacks it.
     /// Used by tests and benchmarks to compare backends.
     pub fn with_backend(size: GridSize, b: Backend) -> Option<Fft2d> {
+        let n = size.n();
+        let fold = (0..n / 2)
+            .flat_map(|r| {
+                let (s, c) = (2.0 * std::f64::consts::PI * r as f64 / n as f64).sin_cos();
+                [-s as f32, c as f32]
+            })
+            .collect();
         Some(Fft2d {
             size,
             backend: b,
             imp: Imp::new(b)?,
-            plan: Plan::new(size.n()),
+            plan: Plan::new(n),
+            half: (n >= 32).then(|| Plan::new(n / 2)),
+            fold,
         })
     }
 
@@ -301,14 +135,12 @@ impl Fft2d {
     pub fn inverse(&self, field: &mut SplitField, scratch: &mut SplitField) {
         self.check(field, scratch);
         with_local(self.size.n(), |local| {
-            let n = self.size.n();
             let (dre, dim) = scratch.planes_mut();
-            self.run(pass_job(field, dre, dim, 0, &Pass::whole(n, true)), local);
+            let first = self.whole(true);
+            self.run(pass_job(field, dre, dim, 0, &first), local);
             let (dre, dim) = field.planes_mut();
-            self.run(
-                pass_job(scratch, dre, dim, 0, &Pass::whole(n, false)),
-                local,
-            );
+            let second = self.whole(false);
+            self.run(pass_job(scratch, dre, dim, 0, &second), local);
         });
     }
 
@@ -343,6 +175,38 @@ impl Fft2d {
         scratch: &mut [SplitField],
         support: &Support,
     ) {
+        self.batch(fields, |_| Output::Complex, scratch, support);
+    }
+
+    /// [`Fft2d::inverse_batch_support`] with field i made as `outputs[i]` says: a Hermitian
+    /// spectrum's real result as [`Output::RealRowPairs`] costs three-quarters of a complex
+    /// transform. Bit-identical for any thread count and grouping, as `inverse_batch`.
+    ///
+    /// # Panics
+    /// As [`Fft2d::inverse_batch_support`], and if `outputs` is not as long as `fields`.
+    pub fn inverse_batch_support_as(
+        &self,
+        fields: &mut [SplitField],
+        outputs: &[Output],
+        scratch: &mut [SplitField],
+        support: &Support,
+    ) {
+        assert_eq!(
+            outputs.len(),
+            fields.len(),
+            "inverse_batch_support_as needs one output per field"
+        );
+        self.batch(fields, |i| outputs[i], scratch, support);
+    }
+
+    /// The batch transform behind the public entry points; `output(i)` for field i.
+    fn batch(
+        &self,
+        fields: &mut [SplitField],
+        output: impl Fn(usize) -> Output + Sync,
+        scratch: &mut [SplitField],
+        support: &Support,
+    ) {
         if fields.is_empty() {
             return;
         }
@@ -366,23 +230,61 @@ impl Fft2d {
         // Pass 2's source rows are the field's columns; the intermediate of the strips pass 1
         // skips is never written, and never read.
         let first = Pass {
-            first: true,
             strips: live_strips(&support.cols),
             rows: support.rows.clone(),
+            ..self.whole(true)
         };
         let second = Pass {
             rows: support.cols.clone(),
-            ..Pass::whole(n, false)
+            ..self.whole(false)
         };
+        // The folded transform: pass 1 reads the N rows as N/2 folded ones and writes an
+        // intermediate of N/2 columns, which pass 2 turns into N/2 rows.
+        let folded = self.half.as_ref().map(|half| {
+            let first = Pass {
+                plan: half,
+                fold: Some(&self.fold[..]),
+                ..first.clone()
+            };
+            let second = Pass {
+                strips: 0..n / 2 / STRIP,
+                width: n / 2,
+                ..second.clone()
+            };
+            (first, second)
+        });
         let group = scratch.len();
-        for fields in fields.chunks_mut(group) {
+        for (g, fields) in fields.chunks_mut(group).enumerate() {
             fields
                 .par_iter_mut()
                 .zip(scratch.par_iter_mut())
-                .for_each(|(f, s)| {
-                    self.pass_par(f, s, &first, group);
-                    self.pass_par(s, f, &second, group);
+                .enumerate()
+                .for_each(|(i, (f, s))| match (output(g * group + i), &folded) {
+                    (Output::RealRowPairs, Some((first, second))) => {
+                        self.pass_par(f, s, first, group);
+                        self.pass_par(s, f, second, group);
+                    }
+                    (out, _) => {
+                        self.pass_par(f, s, &first, group);
+                        self.pass_par(s, f, &second, group);
+                        if out == Output::RealRowPairs {
+                            pair_rows(f);
+                        }
+                    }
                 });
+        }
+    }
+
+    /// Pass 1 or 2 of the whole N×N complex transform.
+    fn whole(&self, first: bool) -> Pass<'_> {
+        let n = self.size.n();
+        Pass {
+            first,
+            strips: 0..n / STRIP,
+            rows: 0..n,
+            width: n,
+            plan: &self.plan,
+            fold: None,
         }
     }
 
@@ -397,7 +299,7 @@ impl Fft2d {
         let count = strips.len().max(1);
         let tasks = (2 * threads).div_ceil(group).min(count);
         let strips_per_task = count.div_ceil(tasks);
-        let n = self.size.n();
+        let n = pass.plan.n;
         let per_strip = STRIP * n;
         let (dre, dim) = dst.planes_mut();
         let live = strips.start * per_strip..strips.end * per_strip;
@@ -409,7 +311,7 @@ impl Fft2d {
             .for_each(|(i, (dre, dim))| {
                 with_local(n, |local| {
                     let first_strip = strips.start + i * strips_per_task;
-                    self.run(pass_job(src, dre, dim, first_strip, pass), local)
+                    self.run(pass_job(src, dre, dim, first_strip, pass), local);
                 })
             });
     }
@@ -424,18 +326,18 @@ impl Fft2d {
         );
     }
 
-    /// Runs one job on this plan's backend.
-    fn run(&self, job: Job<'_>, local: &mut [CRow]) {
+    /// Runs one job of a pass planned by `plan` on this plan's backend.
+    fn run(&self, (plan, job): (&Plan, Job<'_>), local: &mut [CRow]) {
         match self.imp {
-            Imp::Scalar => scalar::pass(&self.plan, job, local),
+            Imp::Scalar => scalar::pass(plan, job, local),
             #[cfg(target_arch = "x86_64")]
-            Imp::Sse2(t) => x86::pass_sse2(t, &self.plan, job, local),
+            Imp::Sse2(t) => x86::pass_sse2(t, plan, job, local),
             #[cfg(target_arch = "x86_64")]
-            Imp::Avx2(t) => x86::pass_avx2(t, &self.plan, job, local),
+            Imp::Avx2(t) => x86::pass_avx2(t, plan, job, local),
             #[cfg(target_arch = "x86_64")]
-            Imp::Avx512(t) => x86::pass_avx512(t, &self.plan, job, local),
+            Imp::Avx512(t) => x86::pass_avx512(t, plan, job, local),
             #[cfg(target_arch = "aarch64")]
-            Imp::Neon(t) => neon::pass_neon(t, &self.plan, job, local),
+            Imp::Neon(t) => neon::pass_neon(t, plan, job, local),
         }
     }
 }
@@ -449,38 +351,34 @@ fn live_strips(live: &Range<usize>) -> Range<usize> {
     }
 }
 
-/// One pass of a 2D transform: which one, the strips it transforms and the source rows that
-/// may hold non-zeros.
-#[derive(Clone, Debug)]
-struct Pass {
+/// One pass of a 2D transform: which one, the strips it transforms, the source rows that
+/// may hold non-zeros, and its shape.
+#[derive(Clone)]
+struct Pass<'a> {
     /// Pass 1 (field → intermediate) or pass 2.
     first: bool,
     /// The strips transformed; the others' destination is not written.
     strips: Range<usize>,
     /// The source rows read; the others are taken as zero.
     rows: Range<usize>,
+    /// See [`Job::width`].
+    width: usize,
+    /// The column transform (length N, or N/2 in a folded pass 1).
+    plan: &'a Plan,
+    /// See [`Job::fold`].
+    fold: Option<&'a [f32]>,
 }
 
-impl Pass {
-    /// Every strip and every row of an `n`-grid.
-    fn whole(n: usize, first: bool) -> Pass {
-        Pass {
-            first,
-            strips: 0..n / STRIP,
-            rows: 0..n,
-        }
-    }
-}
-
-/// The job that transforms `src`'s strips `first_strip..` into `dst_re`/`dst_im`.
+/// The job that transforms `src`'s strips `first_strip..` into `dst_re`/`dst_im`, with the
+/// plan it runs.
 fn pass_job<'a>(
     src: &'a SplitField,
     dst_re: &'a mut [f32],
     dst_im: &'a mut [f32],
     first_strip: usize,
-    pass: &Pass,
-) -> Job<'a> {
-    Job {
+    pass: &Pass<'a>,
+) -> (&'a Plan, Job<'a>) {
+    let job = Job {
         src_re: &src.re,
         src_im: &src.im,
         dst_re,
@@ -488,6 +386,21 @@ fn pass_job<'a>(
         first_strip,
         src_rows: pass.rows.clone(),
         first_pass: pass.first,
+        width: pass.width,
+        fold: pass.fold,
+    };
+    (pass.plan, job)
+}
+
+/// [`Output::RealRowPairs`] from a whole transform's real plane (N = 16, which has no half
+/// plan): row 2p + 1 into the imaginary plane's row p, then row 2p into the real plane's row p
+/// (p ascending reads each row before it is overwritten).
+fn pair_rows(f: &mut SplitField) {
+    let n = f.size().n();
+    let (re, im) = f.planes_mut();
+    for p in 0..n / 2 {
+        im[p * n..(p + 1) * n].copy_from_slice(&re[(2 * p + 1) * n..(2 * p + 2) * n]);
+        re.copy_within(2 * p * n..(2 * p + 1) * n, p * n);
     }
 }
 

@@ -1,6 +1,7 @@
 //! Correctness of every available backend against a naive f64 DFT and rustfft (oracle only),
 //! batch determinism, and the real-output property.
 
+use super::backend::{backend_of_code, forced_code, NOT_FORCED};
 use super::*;
 use rustfft::num_complex::Complex;
 
@@ -288,21 +289,155 @@ fn sparse_batch_equals_the_full_one_and_reads_only_the_support() {
     }
 }
 
+/// A random Hermitian spectrum: X[k] = (Y[k] + conj(Y[−k])) / 2.
+fn hermitian(size: GridSize, seed: u64) -> SplitField {
+    let n = size.n();
+    let y = random_field(size, seed);
+    let mut x = SplitField::zeros(size);
+    for r in 0..n {
+        for c in 0..n {
+            let (i, j) = (r * n + c, ((n - r) % n) * n + (n - c) % n);
+            x.re[i] = 0.5 * (y.re[i] + y.re[j]);
+            x.im[i] = 0.5 * (y.im[i] - y.im[j]);
+        }
+    }
+    x
+}
+
+/// `f` transformed alone as `output` with `support`, on the current pool, one scratch field
+/// filled with NaN (none of it may reach the result).
+fn transform_as(fft: &Fft2d, f: &SplitField, output: Output, support: &Support) -> SplitField {
+    let mut fields = [f.clone()];
+    let mut scratch = [SplitField::zeros(f.size())];
+    scratch[0].re.fill(f32::NAN);
+    scratch[0].im.fill(f32::NAN);
+    fft.inverse_batch_support_as(&mut fields, &[output], &mut scratch, support);
+    let [out] = fields;
+    out
+}
+
+/// The rows 0..N/2 that [`Output::RealRowPairs`] defines, both planes.
+fn paired_rows(f: &SplitField) -> Vec<u32> {
+    let half = f.size().texels() / 2;
+    f.re[..half]
+        .iter()
+        .chain(&f.im[..half])
+        .map(|x| x.to_bits())
+        .collect()
+}
+
+#[test]
+fn real_row_pairs_are_the_real_transform_by_row_pairs() {
+    for backend in Backend::available() {
+        for size in sizes() {
+            let n = size.n();
+            let x = hermitian(size, 300 + n as u64);
+            let fft = Fft2d::with_backend(size, backend).unwrap();
+            let want = run_inverse(&fft, &x);
+            let got = transform_as(&fft, &x, Output::RealRowPairs, &Support::full(size));
+            let (mut err, mut norm) = (0.0f64, 0.0f64);
+            for p in 0..n / 2 {
+                for c in 0..n {
+                    let (even, odd) = (want.re[2 * p * n + c], want.re[(2 * p + 1) * n + c]);
+                    let (re, im) = (got.re[p * n + c], got.im[p * n + c]);
+                    err += ((re - even) as f64).powi(2) + ((im - odd) as f64).powi(2);
+                    norm += (even as f64).powi(2) + (odd as f64).powi(2);
+                }
+            }
+            let rel = (err / norm).sqrt();
+            assert!(
+                rel < 1e-5,
+                "{backend} N={n}: rel RMS {rel:e} against the complex transform"
+            );
+        }
+    }
+}
+
+#[test]
+fn real_row_pairs_read_only_the_support_and_ignore_threads() {
+    for backend in Backend::available() {
+        for size in [16, 64, 256].map(|n| GridSize::new(n).unwrap()) {
+            let n = size.n();
+            let fft = Fft2d::with_backend(size, backend).unwrap();
+            // Centred rows fold into two runs (N/2 − a.. and ..b); one half only; one row.
+            let centre = n / 2 - n / 6..n / 2 + n / 6 + 1;
+            let supports = [
+                Support {
+                    rows: centre.clone(),
+                    cols: centre,
+                },
+                Support {
+                    rows: n / 2 + 1..n,
+                    cols: 3..n - 2,
+                },
+                Support {
+                    rows: 5..6,
+                    cols: 0..n,
+                },
+                Support::full(size),
+            ];
+            for (k, support) in supports.into_iter().enumerate() {
+                let inside =
+                    |r: usize, c: usize| support.rows.contains(&r) && support.cols.contains(&c);
+                let mut input = hermitian(size, 400 + k as u64);
+                let mut sparse = input.clone();
+                for t in (0..n * n).filter(|&t| !inside(t / n, t % n)) {
+                    (input.re[t], input.im[t]) = (0.0, 0.0);
+                    (sparse.re[t], sparse.im[t]) = (f32::NAN, f32::NAN);
+                }
+                let whole = transform_as(&fft, &input, Output::RealRowPairs, &Support::full(size));
+                let got = transform_as(&fft, &sparse, Output::RealRowPairs, &support);
+                let half = n * n / 2;
+                // Equal as numbers: zeros read as zeros may differ in sign from computed ones.
+                assert!(
+                    got.re[..half]
+                        .iter()
+                        .zip(&whole.re[..half])
+                        .all(|(a, b)| a == b)
+                        && got.im[..half]
+                            .iter()
+                            .zip(&whole.im[..half])
+                            .all(|(a, b)| a == b),
+                    "{backend} N={n} {support:?}: the sparse fold differs"
+                );
+                // A batch mixing both outputs, in groups, on any thread count: the same bits.
+                let full = transform_as(&fft, &sparse, Output::Complex, &support);
+                for threads in [1, 2, 4] {
+                    let pool = rayon::ThreadPoolBuilder::new()
+                        .num_threads(threads)
+                        .build()
+                        .unwrap();
+                    for scratches in [1, 2] {
+                        let mut fields = [sparse.clone(), sparse.clone()];
+                        let mut scratch: Vec<SplitField> =
+                            (0..scratches).map(|_| SplitField::zeros(size)).collect();
+                        let outputs = [Output::Complex, Output::RealRowPairs];
+                        pool.install(|| {
+                            fft.inverse_batch_support_as(
+                                &mut fields,
+                                &outputs,
+                                &mut scratch,
+                                &support,
+                            )
+                        });
+                        assert!(
+                            bits(&fields[..1]) == bits(std::slice::from_ref(&full))
+                                && paired_rows(&fields[1]) == paired_rows(&got),
+                            "{backend} N={n} {support:?}: {threads} threads, {scratches} scratch"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
 #[test]
 fn hermitian_input_gives_real_output() {
     for backend in Backend::available() {
         for size in sizes() {
             let n = size.n();
-            let y = random_field(size, 55 + n as u64);
-            // X[k] = (Y[k] + conj(Y[-k])) / 2 is Hermitian.
-            let mut x = SplitField::zeros(size);
-            for r in 0..n {
-                for c in 0..n {
-                    let (i, j) = (r * n + c, ((n - r) % n) * n + (n - c) % n);
-                    x.re[i] = 0.5 * (y.re[i] + y.re[j]);
-                    x.im[i] = 0.5 * (y.im[i] - y.im[j]);
-                }
-            }
+            let x = hermitian(size, 55 + n as u64);
             let fft = Fft2d::with_backend(size, backend).unwrap();
             let out = run_inverse(&fft, &x);
             let rms = |v: &[f32]| {

@@ -159,7 +159,9 @@ pub struct SurfaceParams {
 pub enum Transformed<'a> {
     /// The four packed fields of [`crate::sim::evolve::evolve`] (spectral derivatives).
     Spectral(&'a [SplitField; 4]),
-    /// The two of [`crate::sim::evolve::evolve_finite`]: h + i·X and Z (central differences).
+    /// The two of [`crate::sim::evolve::evolve_finite`] (central differences): h + i·X, and Z
+    /// as row pairs ([`crate::sim::fft::Output::RealRowPairs`]: rows 2p and 2p + 1 in the real
+    /// and imaginary plane of row p).
     Finite(&'a [SplitField; 2]),
 }
 
@@ -181,11 +183,11 @@ impl<'a> Transformed<'a> {
                 ],
             }),
             Transformed::Finite(f) => {
-                let hxz = |row| {
+                let hxz = |row: usize| {
                     [
                         r(&f[0], false, row),
                         r(&f[0], true, row),
-                        r(&f[1], false, row),
+                        r(&f[1], row & 1 == 1, row / 2),
                     ]
                 };
                 RowSource::Finite(Finite {
