@@ -49,14 +49,19 @@ fn mip_planes_kernel(
     );
     for i in 0..side {
         let avg = |a: [f32; 2], b: [f32; 2]| 0.25 * (a[0] + a[1] + b[0] + b[1]);
-        let v = [
+        (x[i], y[i], z[i], w[i]) = (
             avg(x0[i], x1[i]),
             avg(y0[i], y1[i]),
             avg(z0[i], z1[i]),
             avg(w0[i], w1[i]),
-        ];
-        (x[i], y[i], z[i], w[i]) = (v[0], v[1], v[2], v[3]);
-        rgba[i] = mip_texel(v);
+        );
+    }
+    // The RGBA8 texels in a loop of their own, as the surface row's normalization: their
+    // square roots and division are a long chain, and with the averages' shuffles in the same
+    // loop too few texels were in flight to hide it.
+    let rgba = &mut rgba[..side];
+    for i in 0..side {
+        rgba[i] = mip_texel([x[i], y[i], z[i], w[i]]);
     }
 }
 
