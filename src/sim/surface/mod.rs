@@ -37,7 +37,7 @@ mod row;
 use self::f16_row::interleave_f16;
 use self::mips::{build_mips, mip_planes};
 use self::row::{
-    plane_row, surface_row, Finite, RowIn, RowOut, RowSource, Spectral, SurfaceConsts,
+    pad_row, plane_row, surface_row, Finite, RowIn, RowOut, RowSource, Spectral, SurfaceConsts,
 };
 
 /// Everything one cascade publishes per step, in GPU upload formats plus float copies for CPU
@@ -166,8 +166,12 @@ pub enum Transformed<'a> {
 }
 
 impl<'a> Transformed<'a> {
-    /// Row `row`'s source for the row kernel (grid side `n`).
-    fn row(self, row: usize, n: usize) -> RowSource<'a> {
+    /// Row `row`'s source for the row kernel (grid side `n`); the finite mode's middle rows
+    /// are padded into `pad` (3·(n + 2) floats, see [`row::pad_row`]).
+    fn row<'b>(self, row: usize, n: usize, pad: &'b mut [f32]) -> RowSource<'b>
+    where
+        'a: 'b,
+    {
         let r = |f, im, row: usize| plane_row(f, im, row * n, n);
         match self {
             Transformed::Spectral(f) => RowSource::Spectral(Spectral {
@@ -190,8 +194,13 @@ impl<'a> Transformed<'a> {
                         r(&f[1], row & 1 == 1, row / 2),
                     ]
                 };
+                let mut padded = pad.chunks_exact_mut(n + 2);
+                for src in hxz(row) {
+                    pad_row(src, padded.next().expect("3 padded rows"));
+                }
+                let mut padded = pad.chunks_exact(n + 2);
                 RowSource::Finite(Finite {
-                    mid: hxz(row),
+                    mid: std::array::from_fn(|_| padded.next().expect("3 padded rows")),
                     up: hxz((row + 1) % n),
                     down: hxz((row + n - 1) % n),
                 })
@@ -231,8 +240,10 @@ pub fn finalize(
     let (level0_rgba, rest) = out.normal_foam.split_at_mut(n * n);
     let level1_rgba = &mut rest[..side1 * side1];
     let process_pair = |pair: usize, p: Pair<'_>, buf: &mut [f32]| {
-        // Plane q of row i of the pair at (2q + i)·n: the floats, then the displacement.
-        let (floats, disp) = buf.split_at_mut(8 * n);
+        // Plane q of row i of the pair at (2q + i)·n: the floats, then the displacement, then
+        // the finite mode's padded rows.
+        let (floats, rest) = buf.split_at_mut(8 * n);
+        let (disp, pad) = rest.split_at_mut(8 * n);
         let mut fl = floats.chunks_exact_mut(n);
         let mut fl: [[&mut [f32]; 2]; 4] = std::array::from_fn(|_| {
             let a = fl.next().expect("8 rows");
@@ -254,7 +265,7 @@ pub fn finalize(
             let [p0, p1, p2, p3] = &mut fl;
             let [d0, d1, d2, d3] = &mut dl;
             let input = RowIn {
-                src: fields.row(row, n),
+                src: fields.row(row, n, pad),
                 row_sign: if row & 1 == 0 { 1.0 } else { -1.0 },
                 k,
             };
@@ -355,18 +366,23 @@ pub fn finalize(
 struct Line([f32; 16]);
 
 /// Runs `f` on a zeroed stack buffer for one row pair: 16 planes of `n` floats (level-0
-/// normals and foam, then the displacement, of both rows). Sized in tiers so small grids don't
-/// clear more than they use; called once per task, not per pair.
+/// normals and foam, then the displacement, of both rows), then room for three padded rows
+/// of `n + 2` (all of it within 20 planes: n ≥ 16). Sized in tiers so small grids don't clear
+/// more than they use; called once per task, not per pair.
 fn with_pair_buffer<R>(n: usize, f: impl FnOnce(&mut [f32]) -> R) -> R {
-    let len = 16 * n;
+    let len = 20 * n;
+    // 20 planes of the tier's side, in lines of 16 floats.
+    const fn lines(side: u32) -> usize {
+        20 * side as usize / 16
+    }
     if n <= 64 {
-        f(&mut bytemuck::cast_slice_mut(&mut [Line([0.0; 16]); 64])[..len])
+        f(&mut bytemuck::cast_slice_mut(&mut [Line([0.0; 16]); lines(64)])[..len])
     } else if n <= 256 {
-        f(&mut bytemuck::cast_slice_mut(&mut [Line([0.0; 16]); 256])[..len])
+        f(&mut bytemuck::cast_slice_mut(&mut [Line([0.0; 16]); lines(256)])[..len])
     } else if n <= 512 {
-        f(&mut bytemuck::cast_slice_mut(&mut [Line([0.0; 16]); 512])[..len])
+        f(&mut bytemuck::cast_slice_mut(&mut [Line([0.0; 16]); lines(512)])[..len])
     } else {
-        f(&mut bytemuck::cast_slice_mut(&mut [Line([0.0; 16]); GridSize::MAX as usize])[..len])
+        f(&mut bytemuck::cast_slice_mut(&mut [Line([0.0; 16]); lines(GridSize::MAX)])[..len])
     }
 }
 

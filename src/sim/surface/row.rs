@@ -51,15 +51,11 @@ pub(super) struct Texel {
 
 /// Where one row's [`Texel`]s come from: the derivative mode's fields.
 pub(super) trait Source: Copy {
-    /// Whether the first and last columns need [`Source::edge`] (neighbours that wrap).
-    const WRAPS: bool;
-    /// The same source with every slice cut to `n` (exact lengths let LLVM drop bounds checks).
+    /// The same source with every slice cut to what a row of `n` texels reads (exact lengths
+    /// let LLVM drop bounds checks).
     fn fit(self, n: usize) -> Self;
-    /// Texel `col` with sign `s` = (−1)^(row+col) (eq. 42-43); for a source that wraps, only
-    /// 1 ≤ col ≤ n − 2.
+    /// Texel `col` with sign `s` = (−1)^(row+col) (eq. 42-43).
     fn at(&self, col: usize, s: f32, k: &SurfaceConsts) -> Texel;
-    /// Texel `col` at the row's ends, its neighbours wrapping around the periodic patch.
-    fn edge(&self, col: usize, s: f32, k: &SurfaceConsts) -> Texel;
 }
 
 /// Spectral derivatives: the eight real fields of the four packed transforms (see
@@ -70,7 +66,6 @@ pub(super) struct Spectral<'a> {
 }
 
 impl Source for Spectral<'_> {
-    const WRAPS: bool = false;
     #[inline(always)]
     fn fit(self, n: usize) -> Self {
         Self {
@@ -97,17 +92,14 @@ impl Source for Spectral<'_> {
             dzx: dxz,
         }
     }
-    #[inline(always)]
-    fn edge(&self, col: usize, s: f32, k: &SurfaceConsts) -> Texel {
-        self.at(col, s, k)
-    }
 }
 
 /// Central differences (eq. 45-46): h, X and Z of this row and of the rows above (z + Δ) and
 /// below (z − Δ), wrapping around the patch.
 #[derive(Clone, Copy)]
 pub(super) struct Finite<'a> {
-    /// [h, X, Z] of this row, raw (before the sign correction).
+    /// [h, X, Z] of this row, raw (before the sign correction) and padded ([`pad_row`]):
+    /// column c at c + 1, its neighbours at c and c + 2 for every c, the row's ends included.
     pub mid: [&'a [f32]; 3],
     /// [h, X, Z] of row r + 1.
     pub up: [&'a [f32]; 3],
@@ -115,11 +107,23 @@ pub(super) struct Finite<'a> {
     pub down: [&'a [f32]; 3],
 }
 
+/// Copies row `src` into `dst` (`src.len() + 2` floats) with one column of wrap-around on each
+/// side: `dst[0]` is the last column, `dst[n + 1]` the first. With it the row loop reads both
+/// neighbours of every column, the ends too, and runs as whole vectors with no scalar edges
+/// or remainder.
+pub(super) fn pad_row(src: &[f32], dst: &mut [f32]) {
+    let n = src.len();
+    dst[1..n + 1].copy_from_slice(src);
+    (dst[0], dst[n + 1]) = (src[n - 1], src[0]);
+}
+
 impl Finite<'_> {
-    /// The texel at `col` whose left and right neighbours are columns `l` and `r`.
+    /// The texel at `col`: padded column `col + 1`, its neighbours `col` and `col + 2`.
     #[inline(always)]
-    fn around(&self, col: usize, l: usize, r: usize, s: f32, k: &SurfaceConsts) -> Texel {
-        let [h, x, z] = self.mid;
+    fn around(&self, col: usize, s: f32, k: &SurfaceConsts) -> Texel {
+        let (l, r) = (col, col + 2);
+        let [h, x, z] = self.mid.map(|p| &p[1..]);
+        let [hl, xl, zl] = self.mid;
         let [hu, xu, zu] = self.up;
         let [hd, xd, zd] = self.down;
         let ls = k.lambda * s;
@@ -131,35 +135,29 @@ impl Finite<'_> {
             h: h[col] * s,
             dx: ls * x[col],
             dz: ls * z[col],
-            hx: d * (h[r] - h[l]),
+            hx: d * (hl[r] - hl[l]),
             hz: d * (hu[col] - hd[col]),
-            dxx: ld * (x[r] - x[l]),
+            dxx: ld * (xl[r] - xl[l]),
             dzz: ld * (zu[col] - zd[col]),
             dxz: ld * (xu[col] - xd[col]),
-            dzx: ld * (z[r] - z[l]),
+            dzx: ld * (zl[r] - zl[l]),
         }
     }
 }
 
 impl<'a> Source for Finite<'a> {
-    const WRAPS: bool = true;
     #[inline(always)]
     fn fit(self, n: usize) -> Self {
-        let cut = |p: [&'a [f32]; 3]| p.map(|q| &q[..n]);
+        let cut = |p: [&'a [f32]; 3], len: usize| p.map(|q| &q[..len]);
         Self {
-            mid: cut(self.mid),
-            up: cut(self.up),
-            down: cut(self.down),
+            mid: cut(self.mid, n + 2),
+            up: cut(self.up, n),
+            down: cut(self.down, n),
         }
     }
     #[inline(always)]
     fn at(&self, col: usize, s: f32, k: &SurfaceConsts) -> Texel {
-        self.around(col, col - 1, col + 1, s, k)
-    }
-    #[inline(always)]
-    fn edge(&self, col: usize, s: f32, k: &SurfaceConsts) -> Texel {
-        let n = self.mid[0].len();
-        self.around(col, (col + n - 1) % n, (col + 1) % n, s, k)
+        self.around(col, s, k)
     }
 }
 
@@ -256,16 +254,8 @@ fn surface_row_kernel<S: Source>(
         ];
         }};
     }
-    if S::WRAPS {
-        texel!(0, src.edge(0, sign(0), &k));
-        for col in 1..n - 1 {
-            texel!(col, src.at(col, sign(col), &k));
-        }
-        texel!(n - 1, src.edge(n - 1, sign(n - 1), &k));
-    } else {
-        for col in 0..n {
-            texel!(col, src.at(col, sign(col), &k));
-        }
+    for col in 0..n {
+        texel!(col, src.at(col, sign(col), &k));
     }
     *max = mx.map(f32::from_bits);
     // The normalization in a loop of its own: its square root and division end a texel's
