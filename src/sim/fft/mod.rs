@@ -292,12 +292,14 @@ impl Fft2d {
     /// at once); the other strips' destination is left as it was.
     fn pass_par(&self, src: &SplitField, dst: &mut SplitField, pass: &Pass, group: usize) {
         let strips = pass.strips.clone();
-        // Split the pass only as far as needed to give every thread about two tasks: each task
-        // clears its own working buffer, so fewer, larger tasks are cheaper. Every strip is
-        // computed identically whatever the split, so results don't depend on it.
+        // Split the pass only as far as needed to give every thread about two tasks (one task
+        // on one thread: nothing to balance): each task clears its own working buffer, so
+        // fewer, larger tasks are cheaper. Every strip is computed identically whatever the
+        // split, so results don't depend on it.
         let threads = rayon::current_num_threads();
         let count = strips.len().max(1);
-        let tasks = (2 * threads).div_ceil(group).min(count);
+        let per_thread = if threads == 1 { 1 } else { 2 };
+        let tasks = (per_thread * threads).div_ceil(group).min(count);
         let strips_per_task = count.div_ceil(tasks);
         let n = pass.plan.n;
         let per_strip = STRIP * n;
