@@ -101,7 +101,16 @@ impl CascadeSim {
         }
         let t1 = Instant::now();
         let (fields, outputs) = self.fields.all();
-        let groups = scratch.len().min(fields.len());
+        // The finite mode's two transforms differ in cost (Z, as row pairs, is about 0.7 of
+        // h + i·X): side by side one thread waits for the other, so from N = 256 they go one
+        // after another, each split among all threads (2 threads, N = 256: FFT stage
+        // 0.200 -> 0.166 ms sse2, 0.116-0.122 -> 0.105 avx2; at N = 128 the extra fork-joins
+        // cost more, 0.025-0.027 -> 0.030 avx2).
+        let groups = if outputs.contains(&Output::RealRowPairs) && self.spec.grid.n() > 128 {
+            1
+        } else {
+            scratch.len().min(fields.len())
+        };
         let support = &self.spectrum.support;
         fft.inverse_batch_support_as(fields, outputs, &mut scratch[..groups], support);
         let t2 = Instant::now();
