@@ -31,7 +31,7 @@ impl Fields {
     }
 
     /// Every field, for the FFT, with what it makes of each: Z, the finite mode's second
-    /// field, is real and comes as row pairs (three-quarters of a transform).
+    /// field, is real and comes as row pairs (about 0.7 of a transform).
     fn all(&mut self) -> (&mut [SplitField], &'static [Output]) {
         match self {
             Fields::Spectral(f) => (&mut f[..], &[Output::Complex; 4]),

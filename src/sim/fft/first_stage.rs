@@ -20,8 +20,11 @@ fn src_at<const FIRST: bool>(width: usize, strip: usize, r: usize) -> usize {
 
 /// A pass's source planes and the rows of them that may hold non-zeros.
 pub(super) struct Source<'a> {
+    /// The source's real plane (the whole field, or pass 1's tiled intermediate).
     pub re: &'a [f32],
+    /// Its imaginary plane.
     pub im: &'a [f32],
+    /// The rows that may hold non-zeros (see [`super::kernel::Job::src_rows`]).
     pub rows: Range<usize>,
     /// See [`super::kernel::Job::width`].
     pub width: usize,
