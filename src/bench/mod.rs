@@ -337,9 +337,13 @@ fn measure(
         (row.step_ms, row.total_ms) = (st, total);
         row.ours_fft4_ms = medians[fft][FFT_PART];
     }
-    let mut baseline_ms = medians[ours..].iter().map(|m| m[FFT_PART]);
+    let baseline_ms = medians[ours..].iter().map(|m| m[FFT_PART]);
+    // rustfft's row comes first when it ran; FFTW's set-ups follow.
     #[cfg(feature = "baselines")]
-    let rustfft4_ms = if baselines { baseline_ms.next() } else { None };
+    let (rustfft4_ms, baseline_ms) = {
+        let mut rest = baseline_ms;
+        (if baselines { rest.next() } else { None }, rest)
+    };
     #[cfg(not(feature = "baselines"))]
     let rustfft4_ms = None;
     // FFTW's best set-up.
