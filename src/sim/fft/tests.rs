@@ -212,6 +212,20 @@ fn batch_is_bit_identical_to_single_for_any_thread_count() {
     }
 }
 
+/// `f` with zeros outside `support`, and the same with NaN there: what lies outside the
+/// support (and the scratch) holds NaN in a sparse transform, so none of it may reach the
+/// result.
+fn masked(f: SplitField, support: &Support) -> (SplitField, SplitField) {
+    let n = f.size().n();
+    let (mut zeros, mut nans) = (f.clone(), f);
+    let outside = |t: &usize| !(support.rows.contains(&(t / n)) && support.cols.contains(&(t % n)));
+    for t in (0..n * n).filter(outside) {
+        (zeros.re[t], zeros.im[t]) = (0.0, 0.0);
+        (nans.re[t], nans.im[t]) = (f32::NAN, f32::NAN);
+    }
+    (zeros, nans)
+}
+
 #[test]
 fn sparse_batch_equals_the_full_one_and_reads_only_the_support() {
     for backend in Backend::available() {
@@ -240,28 +254,9 @@ fn sparse_batch_equals_the_full_one_and_reads_only_the_support() {
                 Support::full(size),
             ];
             for (k, support) in supports.into_iter().enumerate() {
-                let inside =
-                    |r: usize, c: usize| support.rows.contains(&r) && support.cols.contains(&c);
-                let mut input = random_field(size, 91 + k as u64);
-                for (r, c) in (0..n * n)
-                    .map(|t| (t / n, t % n))
-                    .filter(|&(r, c)| !inside(r, c))
-                {
-                    input.re[r * n + c] = 0.0;
-                    input.im[r * n + c] = 0.0;
-                }
+                let (input, sparse) = masked(random_field(size, 91 + k as u64), &support);
                 let mut want = [input.clone(), input.clone()];
                 fft.inverse_batch(&mut want, &mut [SplitField::zeros(size)]);
-                // What lies outside the support, and the scratch, hold NaN: none of it may
-                // reach the result.
-                let mut sparse = input.clone();
-                for (r, c) in (0..n * n)
-                    .map(|t| (t / n, t % n))
-                    .filter(|&(r, c)| !inside(r, c))
-                {
-                    sparse.re[r * n + c] = f32::NAN;
-                    sparse.im[r * n + c] = f32::NAN;
-                }
                 for threads in [1, 2] {
                     let pool = rayon::ThreadPoolBuilder::new()
                         .num_threads(threads)
@@ -377,14 +372,7 @@ fn real_row_pairs_read_only_the_support_and_ignore_threads() {
                 Support::full(size),
             ];
             for (k, support) in supports.into_iter().enumerate() {
-                let inside =
-                    |r: usize, c: usize| support.rows.contains(&r) && support.cols.contains(&c);
-                let mut input = hermitian(size, 400 + k as u64);
-                let mut sparse = input.clone();
-                for t in (0..n * n).filter(|&t| !inside(t / n, t % n)) {
-                    (input.re[t], input.im[t]) = (0.0, 0.0);
-                    (sparse.re[t], sparse.im[t]) = (f32::NAN, f32::NAN);
-                }
+                let (input, sparse) = masked(hermitian(size, 400 + k as u64), &support);
                 let whole = transform_as(&fft, &input, Output::RealRowPairs, &Support::full(size));
                 let got = transform_as(&fft, &sparse, Output::RealRowPairs, &support);
                 let half = n * n / 2;
