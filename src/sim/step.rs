@@ -236,8 +236,14 @@ impl SimCore {
 
     /// Stages 2-6 for time `t` (s) into `out`: evolution, four inverse FFTs per cascade,
     /// displacement, normals, Jacobian, foam, packing and mips. Foam integrates over the time
-    /// since the previous step.
+    /// since the previous step. The pool's other threads stay awake until it returns
+    /// ([`crate::sim::awake`]).
     pub fn step(&mut self, t: f64, out: &mut Surfaces) {
+        crate::sim::awake::with_pool_awake(|| self.step_awake(t, out));
+    }
+
+    /// [`SimCore::step`] with the pool's threads kept awake.
+    fn step_awake(&mut self, t: f64, out: &mut Surfaces) {
         let waves = &self.config.waves;
         let dt = match self.last_time {
             Some(prev) if t > prev => (t - prev) as f32,
