@@ -138,7 +138,8 @@ pub struct SimCore {
 impl SimCore {
     /// Validates `config` and runs stage 1 for every cascade. Call it on the Rayon pool that
     /// will run its steps: the FFT scratch is sized for that pool's thread count (any pool
-    /// gives the same results, only slower).
+    /// gives the same results, only slower) and each of its threads gets its FFT working
+    /// buffer here.
     pub fn new(config: OceanConfig) -> Result<Self, ParamError> {
         config.validate()?;
         for (i, ratio) in config.aligned_cascades() {
@@ -165,8 +166,11 @@ impl SimCore {
                 CascadeSim::new(spec, &config.waves, config.derivatives)
             })
             .collect();
+        let fft = Fft2d::new(grid);
+        // Every worker's FFT buffer now, not in the first steps that happen to reach it.
+        fft.prepare_threads();
         Ok(Self {
-            fft: Fft2d::new(grid),
+            fft,
             config,
             cascades,
             scratch: (0..scratch_fields(grid))

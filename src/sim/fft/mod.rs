@@ -32,8 +32,10 @@
 //! (cache; see `scratch_fields` in `step.rs`); the grouping never changes the bits.
 //!
 //! Everything size-dependent (twiddles, stage list, output permutation) is built in
-//! [`Fft2d::new`]; transforms allocate nothing and only use a stack working buffer of
-//! N × 128 bytes (128 KiB at N = 1024).
+//! [`Fft2d::new`]. Each thread keeps one working buffer of N × 128 bytes (128 KiB at
+//! N = 1024), made the first time the thread meets a grid that large
+//! ([`Fft2d::prepare_threads`] makes it up front) and never cleared: a pass's first stage
+//! writes every row before any stage reads one. After that, transforms allocate nothing.
 
 mod backend;
 mod first_stage;
@@ -47,6 +49,7 @@ mod tests;
 #[cfg(target_arch = "x86_64")]
 mod x86;
 
+use std::cell::RefCell;
 use std::ops::Range;
 
 use rayon::prelude::*;
@@ -124,12 +127,20 @@ impl Fft2d {
         self.backend
     }
 
+    /// Gives every thread of the current Rayon pool its working buffer for this size now, so
+    /// that no transform allocates later (each thread keeps one, grown on first use).
+    pub fn prepare_threads(&self) {
+        let n = self.size.n();
+        rayon::broadcast(|_| grow_local(n));
+    }
+
     /// Unnormalized inverse 2D DFT in place:
     /// `x[r][c] = Σ_{kr,kc} X[kr][kc]·exp(+2πi·(kr·r + kc·c)/N)`, natural order in and out.
     /// `scratch` (same size) receives the intermediate result (in an internal tiled layout); its
     /// contents on entry are ignored and on exit are unspecified.
     ///
-    /// Allocates nothing; uses a stack working buffer of N × 128 bytes (at most 128 KiB).
+    /// Allocates nothing once this thread has its working buffer (N × 128 bytes, at most
+    /// 128 KiB; see the module doc).
     ///
     /// # Panics
     /// If `field` or `scratch` is not of this plan's size.
@@ -151,7 +162,7 @@ impl Fft2d {
     /// thread suffices and stays in cache from one field to the next. Each strip is computed by
     /// the same code whatever the thread count or grouping, so results are bit-identical to
     /// calling `inverse` on each field. Allocates nothing beyond rayon's own task bookkeeping;
-    /// each task uses a stack working buffer like `inverse`.
+    /// each task uses its thread's working buffer like `inverse`.
     ///
     /// # Panics
     /// If `scratch` is empty or longer than `fields` (while `fields` is not empty), or any field
@@ -294,7 +305,7 @@ impl Fft2d {
     fn pass_par(&self, src: &SplitField, dst: &mut SplitField, pass: &Pass, group: usize) {
         let strips = pass.strips.clone();
         // Split the pass only as far as needed to give every thread about two tasks (one task
-        // on one thread: nothing to balance): each task clears its own working buffer, so
+        // on one thread: nothing to balance): each task has its fork-join's cost, so
         // fewer, larger tasks are cheaper. Every strip is computed identically whatever the
         // split, so results don't depend on it.
         let threads = rayon::current_num_threads();
@@ -407,10 +418,49 @@ fn pair_rows(f: &mut SplitField) {
     }
 }
 
-/// Calls `f` with a zeroed stack working buffer of `n` rows (128 bytes each), sized in tiers so
-/// small grids don't pay for clearing the 128 KiB a 1024 grid needs (a tier per size from 128:
-/// a 128 grid cleared 32 KiB per task for its 16).
+thread_local! {
+    /// This thread's working buffer. Zeroed only when it grows: a pass's first stage writes
+    /// all N rows before any stage reads one, so tasks need not clear it (clearing a stack
+    /// buffer per task cost 2-4 % of the FFT: 32 KiB per task at N = 256).
+    static LOCAL: RefCell<Vec<CRow>> = const { RefCell::new(Vec::new()) };
+}
+
+/// Grows this thread's working buffer to `n` rows (allocates only the first time a thread
+/// meets a larger grid).
+fn grow_local(n: usize) {
+    LOCAL.with(|b| {
+        let mut b = b.borrow_mut();
+        if b.len() < n {
+            b.resize(n, CRow::ZERO);
+        }
+    });
+}
+
+/// Calls `f` with this thread's working buffer of `n` rows (128 bytes each), grown on first
+/// use; a stack buffer if the thread's is in use (no caller nests today).
 fn with_local<R>(n: usize, f: impl FnOnce(&mut [CRow]) -> R) -> R {
+    let mut f = Some(f);
+    let done = LOCAL
+        .try_with(|b| {
+            let mut b = b.try_borrow_mut().ok()?;
+            if b.len() < n {
+                b.resize(n, CRow::ZERO);
+            }
+            let f = f.take()?;
+            Some(f(&mut b[..n]))
+        })
+        .ok()
+        .flatten();
+    match (done, f) {
+        (Some(r), _) => r,
+        (None, Some(f)) => with_stack_local(n, f),
+        (None, None) => unreachable!("f runs at most once"),
+    }
+}
+
+/// Calls `f` with a zeroed stack working buffer of `n` rows, sized in tiers so small grids
+/// don't pay for clearing the 128 KiB a 1024 grid needs.
+fn with_stack_local<R>(n: usize, f: impl FnOnce(&mut [CRow]) -> R) -> R {
     if n <= 64 {
         let mut buf = [CRow::ZERO; 64];
         f(&mut buf[..n])

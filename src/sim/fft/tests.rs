@@ -514,3 +514,20 @@ fn element_tiers_match_the_vector_width() {
         assert_eq!(b.element_tier(), Tier::Baseline);
     }
 }
+
+#[test]
+fn a_nested_working_buffer_comes_from_the_stack() {
+    // The thread's buffer is in use by the outer call: the inner one must get another,
+    // zeroed, and the thread's buffer must be usable again afterwards.
+    let len = super::with_local(64, |outer| {
+        outer[0].re[0] = 1.0;
+        let at = outer.as_ptr();
+        super::with_local(64, |inner| {
+            assert_ne!(inner.as_ptr(), at);
+            assert!(inner.iter().all(|r| r.re == [0.0; 16] && r.im == [0.0; 16]));
+            inner.len()
+        })
+    });
+    assert_eq!(len, 64);
+    assert_eq!(super::with_local(32, |b| b.len()), 32);
+}
