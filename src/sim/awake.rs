@@ -11,13 +11,43 @@
 //! change any result: the stages compute every element the same way on any thread.
 //!
 //! The keepers are `rayon::join` halves, stack jobs, so a step still allocates nothing.
+//!
+//! # Why a keeper cannot hang the step
+//! A keeper spins until the step is done, so it must never spin on top of a job the step waits
+//! for: a thread that took one of the step's jobs and then, waiting inside that job's own join,
+//! a keeper, would never get back to the job. (Rayon's thieves take the oldest job first and the
+//! keepers are older than any of the step's, so this should not happen; the rule below does not
+//! depend on it.) The step waits (at most 100 µs, about one wake-up) for its keepers
+//! to start before it begins, and a keeper that starts after the step did returns at once: a
+//! keeper spins only if no job of the step existed when it was taken.
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
 
 /// Idle rounds of a keeper between two `sched_yield`s: often enough that a keeper on an
 /// oversubscribed host (tests, CI) hands its core to a runnable thread, rarely enough that it
 /// stays on the CPU (and awake) on a free one.
 const SPINS_PER_OS_YIELD: u32 = 64;
+
+/// How long the step waits for its keepers to start (each a sleeping worker's wake-up, 10-20 µs
+/// under KVM) before it starts without the late ones. Unit tests wait longer, so that a loaded
+/// test host cannot make a keeper late and a test that checks where work ran flaky.
+#[cfg(not(test))]
+const KEEPER_WAIT: Duration = Duration::from_micros(100);
+#[cfg(test)]
+const KEEPER_WAIT: Duration = Duration::from_secs(2);
+
+/// What the step and its keepers share.
+struct Keepers {
+    /// The step's thread.
+    owner: usize,
+    /// Keepers spinning (or done spinning).
+    started: AtomicUsize,
+    /// The step has started: keepers taken from now on may sit on top of its jobs.
+    step_started: AtomicBool,
+    /// The step is over: keepers return.
+    done: AtomicBool,
+}
 
 #[cfg(test)]
 thread_local! {
@@ -35,41 +65,43 @@ pub fn with_pool_awake<R: Send>(f: impl FnOnce() -> R + Send) -> R {
     if others == 0 {
         return f();
     }
-    let done = AtomicBool::new(false);
+    let k = Keepers {
+        owner,
+        started: AtomicUsize::new(0),
+        step_started: AtomicBool::new(false),
+        done: AtomicBool::new(false),
+    };
     let run = || {
         // Set even if `f` panics: `join` waits for the keepers before it unwinds.
-        let _done = SetOnDrop(&done);
+        let _done = SetOnDrop(&k.done);
+        let since = Instant::now();
+        while k.started.load(Ordering::SeqCst) < others && since.elapsed() < KEEPER_WAIT {
+            std::hint::spin_loop();
+        }
+        k.step_started.store(true, Ordering::SeqCst);
         f()
     };
-    with_keepers(others, owner, &done, run)
+    with_keepers(others, &k, run)
 }
 
 /// `f` beside `count` keepers: one `join` per keeper, `f` innermost (run first, on this thread).
-fn with_keepers<R: Send>(
-    count: usize,
-    owner: usize,
-    done: &AtomicBool,
-    f: impl FnOnce() -> R + Send,
-) -> R {
+fn with_keepers<R: Send>(count: usize, k: &Keepers, f: impl FnOnce() -> R + Send) -> R {
     if count == 0 {
         return f();
     }
-    rayon::join(
-        || with_keepers(count - 1, owner, done, f),
-        || keep(owner, done),
-    )
-    .0
+    rayon::join(|| with_keepers(count - 1, k, f), || keep(k)).0
 }
 
-/// A keeper: runs the pool's pending work, or spins, until `done`. On the `owner` thread (which
-/// pops its own keeper while it waits inside one of `f`'s joins) it returns at once: spinning
-/// there would wait for `f`, which waits below it on the same stack. Anywhere else `f` goes on
-/// without this thread, so spinning cannot deadlock, nested calls included (a keeper that
-/// steals another call's keeper spins in it until that call's `f` is done).
-fn keep(owner: usize, done: &AtomicBool) {
-    if rayon::current_thread_index() == Some(owner) {
+/// A keeper: runs the pool's pending work, or spins, until the step is done. It returns at once
+/// on the step's own thread (which pops its own keeper while it waits inside one of the step's
+/// joins: spinning there would wait for the step, which waits below it on the same stack) and
+/// when the step has already started (see the module doc).
+fn keep(k: &Keepers) {
+    if rayon::current_thread_index() == Some(k.owner) || k.step_started.load(Ordering::SeqCst) {
         return;
     }
+    k.started.fetch_add(1, Ordering::SeqCst);
+    let done = &k.done;
     #[cfg(test)]
     KEEPING.with(|k| k.set(k.get() + 1));
     #[cfg(test)]
@@ -162,6 +194,41 @@ mod tests {
             let after = p.broadcast(|_| KEEPING.with(|k| k.get()));
             assert_eq!(after, vec![0, 0], "a keeper outlived its step");
         }
+    }
+
+    /// Nested fork-joins of uneven length, as a step's stages make, on pools of 2-4 threads:
+    /// a keeper that started spinning on top of a job the step waits for would hang this (the
+    /// watchdog turns a hang into a failure).
+    #[test]
+    fn uneven_nested_forks_never_hang() {
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            for threads in [2, 3, 4] {
+                let p = pool(threads);
+                for round in 0..300u64 {
+                    let sum = p.install(|| {
+                        with_pool_awake(|| {
+                            (0..64u64)
+                                .into_par_iter()
+                                .map(|i| {
+                                    let spin = (i * 7 + round) % 13;
+                                    let t = Instant::now();
+                                    while t.elapsed() < Duration::from_micros(spin) {}
+                                    (0..i).into_par_iter().map(|j| j ^ round).sum::<u64>()
+                                })
+                                .sum::<u64>()
+                        })
+                    });
+                    let want: u64 = (0..64u64)
+                        .map(|i| (0..i).map(|j| j ^ round).sum::<u64>())
+                        .sum();
+                    assert_eq!(sum, want);
+                }
+            }
+            tx.send(()).unwrap();
+        });
+        rx.recv_timeout(Duration::from_secs(120))
+            .expect("with_pool_awake hung (or panicked) under nested forks");
     }
 
     #[test]
