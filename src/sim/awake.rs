@@ -112,7 +112,7 @@ fn keep(k: &Keepers) {
             idle = 0;
             continue;
         }
-        idle += 1;
+        idle = idle.wrapping_add(1);
         if idle.is_multiple_of(SPINS_PER_OS_YIELD) {
             std::thread::yield_now();
         } else {
