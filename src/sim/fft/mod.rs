@@ -428,12 +428,7 @@ thread_local! {
 /// Grows this thread's working buffer to `n` rows (allocates only the first time a thread
 /// meets a larger grid).
 fn grow_local(n: usize) {
-    LOCAL.with(|b| {
-        let mut b = b.borrow_mut();
-        if b.len() < n {
-            b.resize(n, CRow::ZERO);
-        }
-    });
+    with_local(n, |_| ());
 }
 
 /// Calls `f` with this thread's working buffer of `n` rows (128 bytes each), grown on first
