@@ -56,6 +56,13 @@ fn client() {
     let mut opts = gpu::small_options(StereoMode::Multiview, Vec::new());
     // Submitted depth is single-sample.
     opts.renderer.msaa = vr_ocean::render::Msaa::X1;
+    // The GPU-time governor is on in the OpenXR path; a budget nothing misses counts its
+    // per-frame path without a level change.
+    opts.governor = vr_ocean::app::GovernorOptions {
+        enabled: true,
+        budget: Some(std::time::Duration::from_secs(100)),
+        fault: None,
+    };
     let mut hooks = CountFrames { counted: None };
     let report = app::run(&mut xr, &opts, &mut hooks).unwrap_or_else(|e| panic!("run: {e}"));
     let summary = xr.summary();

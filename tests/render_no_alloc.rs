@@ -45,6 +45,13 @@ fn steady_state_allocations(stereo: StereoMode, bodies: Option<usize>) -> usize 
     )
     .unwrap();
     let mut opts = gpu::small_options(stereo, Vec::new());
+    // The GPU-time governor runs every frame too (a budget no lavapipe frame misses: its
+    // per-frame path is counted, not a level change).
+    opts.governor = vr_ocean::app::GovernorOptions {
+        enabled: true,
+        budget: Some(std::time::Duration::from_secs(100)),
+        fault: None,
+    };
     opts.floating = bodies.map(|n| FloatOptions {
         bodies: BodyCount::new(n).unwrap(),
         deck: DeckPlacement::At(2.9),

@@ -4,6 +4,7 @@ use android_activity::{AndroidApp, MainEvent, PollEvent};
 
 use super::activity::{ActivityEvent, ActivityState};
 use crate::render::{GpuContext, TargetImages};
+use crate::xr::gpu_governor::{GovernorCaps, GovernorState};
 use crate::xr::openxr::{FramePoll, OpenXr};
 use crate::xr::{Acquired, FrameLoop, FrameState, XrError};
 
@@ -105,5 +106,25 @@ impl FrameLoop for ActivityFrameLoop {
 
     fn report_gpu_time(&mut self, gpu: std::time::Duration) {
         self.xr.report_gpu_time(gpu);
+    }
+
+    fn governor_caps(&self) -> GovernorCaps {
+        self.xr.governor_caps()
+    }
+
+    fn set_foveation_boost(&mut self, boost: bool) -> bool {
+        self.xr.set_foveation_boost(boost)
+    }
+
+    fn set_render_rect(&mut self, rect: ash::vk::Rect2D) -> bool {
+        self.xr.set_render_rect(rect)
+    }
+
+    fn report_governor(&mut self, state: GovernorState) {
+        self.xr.report_governor(state);
+    }
+
+    fn haptic_tick(&mut self, hand: usize) {
+        self.xr.haptic_tick(hand);
     }
 }

@@ -3,7 +3,7 @@
 //! runtime's system name), no validation layer (the APK ships none), cascades over a 2048 m
 //! ocean, and as many simulation workers as the performance cores allow (`sim::workers`).
 
-use crate::app::{DeckPlacement, FloatOptions, RunOptions};
+use crate::app::{DeckPlacement, FloatOptions, GovernorOptions, RunOptions};
 use crate::base::ParamError;
 use crate::lod::{LodSettings, OceanSize, QualityPreset};
 use crate::physics::{BodyCount, DEFAULT_DECK_HEIGHT};
@@ -56,6 +56,11 @@ pub fn run_options(
             bodies: BodyCount::DEFAULT,
             deck: DeckPlacement::At(DEFAULT_DECK_HEIGHT),
         }),
+        // On a headset the GPU-time governor is always on, its budget the frame period.
+        governor: GovernorOptions {
+            enabled: true,
+            ..GovernorOptions::default()
+        },
     })
 }
 
@@ -78,6 +83,10 @@ mod tests {
         let run = run_options(&d, d.preset, &gen1, Some(8)).unwrap();
         run.ocean.validate().unwrap();
         assert_eq!(run.threads, 3);
+        assert!(
+            run.governor.enabled,
+            "the GPU-time governor is on on a headset"
+        );
         assert_eq!(run.lod.preset(), QualityPreset::Medium);
         assert!(run.capture.is_empty());
         // No cpufreq data: the reported core count minus the render thread.

@@ -7,6 +7,7 @@ use std::time::Duration;
 
 use crate::lod::QualityPreset;
 use crate::sim::{Simulation, WaveParams};
+use crate::xr::gpu_governor::QualityStep;
 use crate::xr::Tweak;
 
 /// Applies a wave tweak (wind speed, direction, choppiness) through
@@ -90,7 +91,14 @@ impl RecentFrames {
 
     /// Writes a one-line summary (p50 of each timing) into `out`, replacing its contents;
     /// allocates nothing once `out` has room for about 200 bytes.
-    pub fn summarise(&self, out: &mut String, preset: QualityPreset, waves: &WaveParams) {
+    /// With the GPU-time governor on, `governor` is its level, shown after the preset.
+    pub fn summarise(
+        &self,
+        out: &mut String,
+        preset: QualityPreset,
+        waves: &WaveParams,
+        governor: Option<QualityStep>,
+    ) {
         out.clear();
         let n = self.len;
         if n == 0 {
@@ -120,6 +128,9 @@ impl RecentFrames {
             waves.wind_direction_deg,
             waves.choppiness
         );
+        if let Some(level) = governor {
+            let _ = write!(out, " | GPU governor: {}", level.name());
+        }
     }
 }
 
@@ -156,13 +167,14 @@ mod tests {
         let mut r = RecentFrames::default();
         let mut s = String::with_capacity(256);
         let waves = WaveParams::default();
-        r.summarise(&mut s, QualityPreset::High, &waves);
+        r.summarise(&mut s, QualityPreset::High, &waves, None);
         assert!(s.starts_with("warming up | high"), "{s}");
         for ms in [10, 30, 20] {
             let d = Duration::from_millis(ms);
             r.push(d, d / 10, None, 12);
         }
-        r.summarise(&mut s, QualityPreset::Low, &waves);
+        r.summarise(&mut s, QualityPreset::Low, &waves, None);
+        assert!(!s.contains("governor"), "{s}");
         assert!(s.starts_with("frame 20.0 ms (50 fps) | sim 2.0 ms | GPU - | 12 draws | low"));
         for _ in 0..RECENT {
             r.push(
@@ -172,7 +184,13 @@ mod tests {
                 7,
             );
         }
-        r.summarise(&mut s, QualityPreset::Low, &waves);
+        r.summarise(
+            &mut s,
+            QualityPreset::Low,
+            &waves,
+            Some(QualityStep::Scale85),
+        );
+        assert!(s.ends_with("| GPU governor: scale-0.85"), "{s}");
         assert!(
             s.contains("frame 5.0 ms") && s.contains("GPU 3.0 ms | 7 draws"),
             "{s}"

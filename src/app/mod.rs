@@ -3,6 +3,7 @@
 //! frame's LOD is updated and its commands are recorded and submitted.
 
 pub mod floating;
+pub mod govern;
 pub mod live;
 pub mod timing;
 
@@ -18,6 +19,7 @@ use crate::render::{self, OceanRenderer, RenderError, RendererSettings};
 use crate::sim::{OceanConfig, SimError, Simulation};
 use crate::xr::{FrameLoop, FrameState, Tweak, XrError};
 pub use floating::{Afloat, DeckPlacement, FloatOptions};
+pub use govern::{GovernorChange, GovernorOptions, GpuFault};
 pub use timing::{FrameTimes, Percentiles, Timing};
 
 /// Why a run stopped.
@@ -96,6 +98,8 @@ pub struct RunOptions {
     pub warmup: u64,
     /// Floating bodies and the deck; `None`: open water only (image and timing tests).
     pub floating: Option<FloatOptions>,
+    /// The GPU-time governor (off by default: images and timings stay as configured).
+    pub governor: GovernorOptions,
 }
 
 /// One captured frame: both eyes as tightly packed sRGB RGBA8 rows.
@@ -131,6 +135,8 @@ pub struct RunReport {
     pub validation_errors: u32,
     /// The device's name.
     pub device: String,
+    /// The GPU-time governor's level changes, in order (empty when it is off).
+    pub governor: Vec<GovernorChange>,
 }
 
 /// What a caller of [`run`] hears about while frames go by.
@@ -181,6 +187,8 @@ struct Frames<'a> {
     renderer: OceanRenderer,
     readback: Option<Readback>,
     afloat: Option<Afloat>,
+    /// The GPU-time governor, when on.
+    governed: Option<govern::Governed>,
     /// Whether the first simulation step was started.
     started: bool,
     stats: RunStats,
@@ -230,6 +238,15 @@ impl<'a> Frames<'a> {
                 }
             }
         };
+        let governed = govern::Governed::new(
+            opts.governor,
+            &*xr,
+            opts.lod.preset(),
+            opts.renderer.specular_aa,
+        );
+        if let Some(g) = governed.as_ref() {
+            xr.report_governor(g.state());
+        }
         Ok(Self {
             xr,
             opts,
@@ -239,6 +256,7 @@ impl<'a> Frames<'a> {
             renderer,
             readback,
             afloat,
+            governed,
             started: false,
             stats: RunStats {
                 times: FrameTimes::with_capacity(16_384),
@@ -275,7 +293,7 @@ impl<'a> Frames<'a> {
         // Live changes (window keys, controllers) apply from the step started next.
         for &tweak in frame.tweaks.iter().flatten() {
             match tweak {
-                Tweak::Preset(p) => self.switch_preset(p)?,
+                Tweak::Preset(p) => self.user_preset(p)?,
                 Tweak::Throw => self.throw(&frame),
                 Tweak::Sun { elevation, azimuth } => self.move_sun(elevation, azimuth)?,
                 t => live::apply_wave_tweak(&mut self.sim, t),
@@ -309,6 +327,7 @@ impl<'a> Frames<'a> {
         self.stats.frames += 1;
         if let Some(r) = report {
             self.record(&frame, &r, &cost);
+            self.govern(&frame, r.gpu_pass)?;
         }
         if self.stats.shown_at.elapsed().as_secs_f64() >= 0.5 {
             self.stats.shown_at = Instant::now();
@@ -316,6 +335,7 @@ impl<'a> Frames<'a> {
                 &mut self.stats.text,
                 self.lod.settings().preset(),
                 &self.sim.config().waves,
+                self.governed.as_ref().map(|g| g.level()),
             );
             self.xr.show_stats(&self.stats.text);
         }
@@ -410,6 +430,7 @@ impl<'a> Frames<'a> {
             attachment_bytes,
             validation_errors: 0,
             device: gpu.device_name.clone(),
+            governor: self.governed.map_or(Vec::new(), |g| g.history),
         };
         (report, self.xr)
     }
@@ -469,6 +490,48 @@ impl<'a> Frames<'a> {
         old.destroy(xr.gpu());
         *lod = new_lod;
         log::info!("quality preset: {}", preset.name());
+        // The new renderer draws the whole image with the user's settings: the governor's
+        // level goes back on.
+        if let Some(g) = self.governed.as_ref() {
+            g.apply(g.level(), &mut self.renderer, &mut *self.xr)?;
+        }
+        Ok(())
+    }
+
+    /// The user chose `preset` (window key, controller): the governor's LOD step, if taken,
+    /// applies below it.
+    fn user_preset(&mut self, preset: QualityPreset) -> Result<(), AppError> {
+        match self.governed.as_mut() {
+            Some(g) => {
+                g.preset = preset;
+                let p = g.preset_for(g.level());
+                self.switch_preset(p)
+            }
+            None => self.switch_preset(preset),
+        }
+    }
+
+    /// Feeds the governor this frame's GPU time and applies a new level. The LOD step
+    /// rebuilds the renderer through [`Frames::switch_preset`], which waits for the GPU: a
+    /// rare step, not the steady state.
+    fn govern(
+        &mut self,
+        frame: &FrameState,
+        gpu: Option<std::time::Duration>,
+    ) -> Result<(), AppError> {
+        let Some(g) = self.governed.as_mut() else {
+            return Ok(());
+        };
+        let Some(level) = g.observe(frame, gpu) else {
+            return Ok(());
+        };
+        let preset = g.preset_for(level);
+        if preset != self.lod.settings().preset() {
+            // Re-applies the level after the rebuild.
+            return self.switch_preset(preset);
+        }
+        let g = self.governed.as_ref().expect("checked above");
+        g.apply(level, &mut self.renderer, &mut *self.xr)?;
         Ok(())
     }
 }

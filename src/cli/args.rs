@@ -3,7 +3,7 @@
 
 use clap::{Args, ValueEnum};
 
-use vr_ocean::app::RunOptions;
+use vr_ocean::app::{GovernorOptions, GpuFault, RunOptions};
 use vr_ocean::base::ParamError;
 use vr_ocean::lod::{LodSettings, OceanSize, QualityPreset};
 use vr_ocean::physics::{BodyCount, PhysicsError};
@@ -219,6 +219,19 @@ pub struct ViewArgs {
     /// Atmospheric turbidity (1.7 very clear to 10 hazy; 2-3 clear maritime air) [default: 2.5].
     #[arg(long, allow_negative_numbers = true)]
     pub turbidity: Option<f32>,
+    /// GPU-time governor: steps quality down (supersampling, foveation, render scale, LOD
+    /// preset) when the GPU pass exceeds 0.8 of the budget, back up with headroom [default:
+    /// on for xr; off for window and headless, where a CPU Vulkan device is over any budget].
+    #[arg(long, value_enum)]
+    pub gpu_governor: Option<OnOff>,
+    /// The governor's GPU budget per frame (ms, 0.1 to 1000) [default: the frame period].
+    #[arg(long, allow_negative_numbers = true)]
+    pub gpu_budget_ms: Option<f64>,
+    /// Test fault MS@FROM-TO: adds MS ms to the measured GPU pass time of frames shown from
+    /// FROM to TO s (an injected measurement, not GPU work), so the governor steps down and,
+    /// once it ends, back up.
+    #[arg(long, value_name = "MS@FROM-TO", value_parser = GpuFault::parse)]
+    pub fault_gpu_ms: Option<GpuFault>,
 }
 
 /// `--bodies` when not given.
@@ -270,6 +283,39 @@ impl ViewArgs {
             capture,
             warmup,
             floating: None,
+            governor: self.governor(false)?,
+        })
+    }
+
+    /// The GPU-time governor's options; on unless `--gpu-governor off` when `default_on`,
+    /// else only with `--gpu-governor on`. A fault needs the governor on (only it reads the
+    /// faulted time).
+    pub fn governor(&self, default_on: bool) -> Result<GovernorOptions, ParamError> {
+        let enabled = self.gpu_governor.map_or(default_on, |g| g == OnOff::On);
+        let budget = match self.gpu_budget_ms {
+            None => None,
+            Some(ms) if ms.is_finite() && (0.1..=1000.0).contains(&ms) => {
+                Some(std::time::Duration::from_secs_f64(ms * 1e-3))
+            }
+            Some(ms) => {
+                return Err(ParamError::new(
+                    "gpu-budget-ms",
+                    ms,
+                    "milliseconds in [0.1, 1000]",
+                ))
+            }
+        };
+        if let (false, Some(f)) = (enabled, self.fault_gpu_ms) {
+            return Err(ParamError::new(
+                "fault-gpu-ms",
+                f.extra.as_secs_f64() * 1e3,
+                "a fault only with the GPU-time governor on (--gpu-governor on)",
+            ));
+        }
+        Ok(GovernorOptions {
+            enabled,
+            budget,
+            fault: self.fault_gpu_ms,
         })
     }
 

@@ -197,6 +197,7 @@ pub fn headless_cmd(a: HeadlessArgs) -> CmdResult {
     let validation = ValidationWatch::of(xr.gpu());
     let report = app::run(&mut xr, &opts, &mut pngs)?;
     drop(xr);
+    print_governor(&report.governor);
     let json_path = a.out.join("frame_times.json");
     report::write_frame_times(&json_path, &report, opts.renderer.stereo.name())?;
     print_times(&report.times);
@@ -288,6 +289,7 @@ pub fn window_cmd(a: WindowArgs, fallback: bool) -> CmdResult {
     let screenshot = xr.take_screenshot();
     drop(xr);
     println!("{} frames", report.frames);
+    print_governor(&report.governor);
     print_times(&report.times);
     if let Some(file) = &a.screenshot {
         let shot = screenshot.ok_or(
@@ -311,6 +313,8 @@ pub fn xr_cmd(a: XrArgs) -> CmdResult {
         bodies,
         deck: DeckPlacement::At(a.deck_height),
     });
+    // The headset path governs GPU time unless told not to.
+    opts.governor = a.view.governor(true)?;
     if a.submit_depth && a.view.msaa.is_none() {
         // Submitted depth is single-sample.
         opts.renderer.msaa = Msaa::X1;
@@ -389,6 +393,18 @@ fn headless_fallback(why: &str, view: ViewArgs) -> CmdResult {
         shown.display()
     );
     Ok(())
+}
+
+/// The GPU-time governor's changes, one line each (nothing when it is off or never changed).
+fn print_governor(changes: &[app::GovernorChange]) {
+    for c in changes {
+        println!(
+            "GPU governor: {} at {:.3} s (frame {})",
+            c.level.name(),
+            c.time,
+            c.frame
+        );
+    }
 }
 
 pub fn print_times(t: &FrameTimes) {

@@ -6,8 +6,12 @@
 //! A frame: [`FrameLoop::begin_frame`] (predicted display time and both eye views),
 //! [`FrameLoop::acquire_image`], the renderer records and submits into that image,
 //! [`FrameLoop::release_image`], [`FrameLoop::end_frame`].
+//!
+//! [`gpu_governor`] is the pure GPU-time governor the app feeds with the pass's GPU time;
+//! the backends say which of its levels they can apply ([`FrameLoop::governor_caps`]).
 
 pub mod desktop;
+pub mod gpu_governor;
 pub mod locomotion;
 pub mod openxr;
 
@@ -128,6 +132,29 @@ pub trait FrameLoop {
     /// The GPU time of a recent frame's pass (from timestamps, a frame or two late). Backends
     /// that adapt to the frame cost (the OpenXR refresh-rate governor) use it; others ignore it.
     fn report_gpu_time(&mut self, _gpu: std::time::Duration) {}
+
+    /// What the GPU-time governor ([`gpu_governor`]) may change through this backend (the
+    /// levels it cannot are skipped). Default: nothing.
+    fn governor_caps(&self) -> gpu_governor::GovernorCaps {
+        gpu_governor::GovernorCaps::default()
+    }
+
+    /// Raises fixed foveation one level above the configured one (`boost`) or restores it.
+    /// Returns whether it was applied (false: the backend cannot).
+    fn set_foveation_boost(&mut self, _boost: bool) -> bool {
+        false
+    }
+
+    /// Shows the eye images from `rect` (the part the renderer drew into, same field of view)
+    /// from the next frame on. Returns whether the backend can (false: it keeps showing the
+    /// whole image, so the renderer must draw all of it).
+    fn set_render_rect(&mut self, _rect: ash::vk::Rect2D) -> bool {
+        false
+    }
+
+    /// The GPU-time governor's state after a change (the OpenXR summary; with levels left,
+    /// the refresh governor leaves GPU time to it). Backends without a place ignore it.
+    fn report_governor(&mut self, _state: gpu_governor::GovernorState) {}
 
     /// Plays a short haptic tick on hand `hand` (0 left, 1 right): a body was grabbed.
     /// Backends without controllers ignore it.

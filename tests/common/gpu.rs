@@ -62,6 +62,7 @@ pub fn small_options(stereo: StereoMode, capture: Vec<u64>) -> RunOptions {
         capture,
         warmup: 0,
         floating: None,
+        governor: Default::default(),
     }
 }
 

@@ -218,6 +218,8 @@ pub struct OceanRenderer {
     slots: Slots,
     pass: PassConstants,
     extent: vk::Extent2D,
+    /// The part of each eye image drawn (all of it unless [`OceanRenderer::set_render_area`]).
+    area: vk::Rect2D,
     frame: u64,
 }
 
@@ -264,6 +266,10 @@ impl OceanRenderer {
             slots,
             pass: PassConstants::new(config, lod.settings()),
             extent: targets.extent,
+            area: vk::Rect2D {
+                offset: vk::Offset2D::default(),
+                extent: targets.extent,
+            },
             frame: 0,
         })
     }
@@ -341,7 +347,7 @@ impl OceanRenderer {
             instances: slot.instances.raw,
             solids: slot.solids.raw,
             set: slot.set,
-            extent: self.extent,
+            area: self.area,
             vertices_per_side: self.pass.vertices_per_side,
             resolve_after: self
                 .pipelines
@@ -419,6 +425,37 @@ impl OceanRenderer {
             slot.write_sky(ctx, self.sky.descriptor());
         }
         self.settings.sun = sun;
+        Ok(())
+    }
+
+    /// Turns the specular AA's supersampling on or off from the next frame (the GPU-time
+    /// governor's first step): only the uniform it writes changes, nothing is rebuilt.
+    pub fn set_specular_aa(&mut self, on: bool) {
+        self.settings.specular_aa = on;
+    }
+
+    /// Draws into `area` of each eye image from the next frame (the GPU-time governor's render
+    /// scale; the whole image by default): viewport, scissor and render area shrink, the
+    /// projection stays, nothing is reallocated. Refused unless `area` is non-empty and lies
+    /// in the images.
+    pub fn set_render_area(&mut self, area: vk::Rect2D) -> Result<(), RenderError> {
+        let fits = |offset: i32, len: u32, full: u32| {
+            offset >= 0 && len > 0 && offset as u64 + u64::from(len) <= u64::from(full)
+        };
+        if !(fits(area.offset.x, area.extent.width, self.extent.width)
+            && fits(area.offset.y, area.extent.height, self.extent.height))
+        {
+            return Err(RenderError::Invalid(format!(
+                "render area {}x{} at ({}, {}) does not lie in the {}x{} eye image",
+                area.extent.width,
+                area.extent.height,
+                area.offset.x,
+                area.offset.y,
+                self.extent.width,
+                self.extent.height
+            )));
+        }
+        self.area = area;
         Ok(())
     }
 

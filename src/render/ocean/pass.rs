@@ -143,7 +143,9 @@ pub(super) struct PassRecorder<'a> {
     pub solids: vk::Buffer,
     /// The slot's descriptor set.
     pub set: vk::DescriptorSet,
-    pub extent: vk::Extent2D,
+    /// Where in the eye image to draw: the whole image, or a centred part of it when the
+    /// GPU-time governor lowers the render scale (same projection, fewer pixels).
+    pub area: vk::Rect2D,
     pub vertices_per_side: u32,
     /// Two passes with MSAA: resolve each eye after its pass, from this multisampled image
     /// into layer `eye` of this eye image.
@@ -185,20 +187,17 @@ impl PassRecorder<'_> {
                 },
             },
         ];
-        let area = vk::Rect2D {
-            offset: vk::Offset2D { x: 0, y: 0 },
-            extent: self.extent,
-        };
+        let area = self.area;
         let begin = vk::RenderPassBeginInfo::default()
             .render_pass(p.render_pass)
             .framebuffer(framebuffer)
             .render_area(area)
             .clear_values(&clear);
         let viewport = vk::Viewport {
-            x: 0.0,
-            y: 0.0,
-            width: self.extent.width as f32,
-            height: self.extent.height as f32,
+            x: area.offset.x as f32,
+            y: area.offset.y as f32,
+            width: area.extent.width as f32,
+            height: area.extent.height as f32,
             min_depth: 0.0,
             max_depth: 1.0,
         };
@@ -310,14 +309,19 @@ impl PassRecorder<'_> {
             base_array_layer: layer,
             layer_count: 1,
         };
+        let offset = vk::Offset3D {
+            x: self.area.offset.x,
+            y: self.area.offset.y,
+            z: 0,
+        };
         let region = vk::ImageResolve {
             src_subresource: layers(0),
-            src_offset: vk::Offset3D::default(),
+            src_offset: offset,
             dst_subresource: layers(eye),
-            dst_offset: vk::Offset3D::default(),
+            dst_offset: offset,
             extent: vk::Extent3D {
-                width: self.extent.width,
-                height: self.extent.height,
+                width: self.area.extent.width,
+                height: self.area.extent.height,
                 depth: 1,
             },
         };

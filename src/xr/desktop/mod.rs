@@ -14,6 +14,7 @@ pub mod window;
 use ash::vk;
 use glam::{Quat, Vec3};
 
+use super::gpu_governor::GovernorCaps;
 use super::{Acquired, FrameLoop, FrameState, XrError, MAX_TWEAKS};
 use crate::base::{EyeView, Fov};
 use crate::render::memory::{Image, ImageDesc};
@@ -299,6 +300,19 @@ impl FrameLoop for HeadlessXr {
 
     fn end_frame(&mut self, _frame: &FrameState) -> Result<(), XrError> {
         Ok(())
+    }
+
+    /// Nothing is shown, so a smaller drawn rectangle needs nothing more: the render scale
+    /// steps apply (read-backs still copy the whole image, its border then stale).
+    fn governor_caps(&self) -> GovernorCaps {
+        GovernorCaps {
+            render_rect: true,
+            ..GovernorCaps::default()
+        }
+    }
+
+    fn set_render_rect(&mut self, _rect: vk::Rect2D) -> bool {
+        true
     }
 }
 

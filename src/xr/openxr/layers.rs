@@ -9,12 +9,14 @@ use openxr as xr;
 use super::session::Session;
 
 /// `xrEndFrame` for a frame displayed at `time`: with the projection layer of `views` when
-/// `rendered`, with no layer otherwise.
+/// `rendered`, with no layer otherwise. `area` is the part of each image drawn: all of it, or
+/// the GPU-time governor's scaled rectangle; the field of view is the same either way (the
+/// compositor stretches the rectangle over it).
 pub(super) fn end_frame(
     session: &mut Session,
     time: xr::Time,
     views: &[xr::View; 2],
-    extent: vk::Extent2D,
+    area: vk::Rect2D,
     rendered: bool,
 ) -> Result<(), xr::sys::Result> {
     if !rendered {
@@ -23,10 +25,13 @@ pub(super) fn end_frame(
             .end(time, xr::EnvironmentBlendMode::OPAQUE, &[]);
     }
     let rect = xr::Rect2Di {
-        offset: xr::Offset2Di { x: 0, y: 0 },
+        offset: xr::Offset2Di {
+            x: area.offset.x,
+            y: area.offset.y,
+        },
         extent: xr::Extent2Di {
-            width: extent.width as i32,
-            height: extent.height as i32,
+            width: area.extent.width as i32,
+            height: area.extent.height as i32,
         },
     };
     // Reversed-Z with an infinite far plane: depth 0 is infinitely far, 1 is the near plane.

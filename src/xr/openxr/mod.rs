@@ -49,6 +49,7 @@ use self::quest_setup::QuestSettings;
 use self::session::{Session, SessionSettings};
 use self::stats::FrameStats;
 pub use self::stats::Summary;
+use super::gpu_governor::{GovernorCaps, GovernorState};
 use super::locomotion::{Locomotion, LocomotionSettings};
 use super::{Acquired, FrameLoop, FrameState, XrError};
 use crate::lod::QualityPreset;
@@ -140,6 +141,13 @@ pub struct OpenXr {
     options: OpenXrOptions,
     /// Per-eye image size.
     extent: vk::Extent2D,
+    /// The part of each eye image drawn and shown (the GPU-time governor's render scale).
+    render_rect: vk::Rect2D,
+    /// The fixed foveation started with, and whether the governor raised it a level.
+    foveation: (Foveation, bool),
+    /// The GPU-time governor has cheaper levels left: GPU time is its to fix, not the
+    /// refresh governor's (false while it is off).
+    gpu_levels_left: bool,
     /// Where the tracking space sits over the water.
     locomotion: Locomotion,
     /// The quality preset selected now.
@@ -301,6 +309,12 @@ impl OpenXr {
             preset: options.preset.unwrap_or(defaults.preset),
             options,
             extent,
+            render_rect: vk::Rect2D {
+                offset: vk::Offset2D::default(),
+                extent,
+            },
+            foveation: (level, false),
+            gpu_levels_left: false,
             locomotion: Locomotion::new(
                 Vec3::new(0.0, facts.origin_height, 0.0),
                 LocomotionSettings::default(),
@@ -364,9 +378,14 @@ impl OpenXr {
             return;
         };
         // The frame costs what the slower side costs: the app's CPU work since xrWaitFrame
-        // returned, or the GPU pass (Quest apps are usually GPU-bound).
+        // returned, or the GPU pass (Quest apps are usually GPU-bound). GPU time counts only
+        // once the GPU-time governor has no cheaper level left: it acts first.
         let cpu = started.elapsed().as_secs_f64();
-        let gpu = self.last_gpu.map_or(0.0, |d| d.as_secs_f64());
+        let gpu = if self.gpu_levels_left {
+            0.0
+        } else {
+            self.last_gpu.map_or(0.0, |d| d.as_secs_f64())
+        };
         if let Some(rate) = g.observe(cpu.max(gpu)) {
             log::warn!("frames do not fit the budget: asking for {rate} Hz");
             self.stats.summary.refresh_rate = Some(rate);
@@ -478,12 +497,12 @@ impl FrameLoop for OpenXr {
         };
         self.govern_refresh_rate(pending.started);
         let rendered = pending.acquired && pending.released;
-        let extent = self.extent;
+        let area = self.render_rect;
         let session = self
             .session
             .as_mut()
             .expect("the session exists until drop");
-        match layers::end_frame(session, pending.time, &pending.views, extent, rendered) {
+        match layers::end_frame(session, pending.time, &pending.views, area, rendered) {
             Ok(()) => {}
             Err(xr::sys::Result::ERROR_SESSION_NOT_RUNNING) => return Ok(()),
             Err(e) => return Err(CallError::new("xrEndFrame", e).into()),
@@ -508,6 +527,46 @@ impl FrameLoop for OpenXr {
 
     fn report_gpu_time(&mut self, gpu: Duration) {
         self.last_gpu = Some(gpu);
+    }
+
+    fn governor_caps(&self) -> GovernorCaps {
+        let (base, _) = self.foveation;
+        GovernorCaps {
+            foveation: self.session().foveation.is_some() && base.higher().is_some(),
+            render_rect: true,
+            lod: true,
+        }
+    }
+
+    fn set_foveation_boost(&mut self, boost: bool) -> bool {
+        let (base, boosted) = self.foveation;
+        let Some(higher) = base.higher() else {
+            return false;
+        };
+        if boost == boosted {
+            return self.session().foveation.is_some();
+        }
+        let level = if boost { higher } else { base };
+        let session = self
+            .session
+            .as_mut()
+            .expect("the session exists until drop");
+        let applied = quest_setup::set_foveation(&self.instance, session, level);
+        if applied {
+            self.foveation.1 = boost;
+        }
+        applied
+    }
+
+    fn set_render_rect(&mut self, rect: vk::Rect2D) -> bool {
+        self.render_rect = rect;
+        true
+    }
+
+    fn report_governor(&mut self, state: GovernorState) {
+        self.gpu_levels_left = !state.exhausted;
+        self.stats.summary.governor = Some(state.level);
+        self.stats.summary.governor_changes = state.changes;
     }
 
     fn haptic_tick(&mut self, hand: usize) {

@@ -29,6 +29,16 @@ impl Foveation {
             Foveation::High => xr::FoveationLevelFB::HIGH,
         }
     }
+    /// The next stronger level (the GPU-time governor's foveation step); `None` at the
+    /// strongest.
+    pub fn higher(self) -> Option<Foveation> {
+        match self {
+            Foveation::Off => Some(Foveation::Low),
+            Foveation::Low => Some(Foveation::Medium),
+            Foveation::Medium => Some(Foveation::High),
+            Foveation::High => None,
+        }
+    }
 }
 
 /// A performance level hint of `XR_EXT_performance_settings`.

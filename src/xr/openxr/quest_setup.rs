@@ -51,6 +51,27 @@ fn foveation(
     Some(profile)
 }
 
+/// Changes the fixed foveation of a session started with it to `level` (the GPU-time
+/// governor's foveation step and its undoing). False when the swapchain has no foveation
+/// profile or the runtime refuses (logged); the old profile then stays.
+pub(super) fn set_foveation(
+    instance: &xr::Instance,
+    session: &mut Session,
+    level: Foveation,
+) -> bool {
+    if session.foveation.is_none() {
+        return false;
+    }
+    match foveation::apply_profile(instance, &session.session, &session.colour, level) {
+        Some(profile) => {
+            session.foveation = Some(profile);
+            log::info!("fixed foveation: {level:?} (GPU-time governor)");
+            true
+        }
+        None => false,
+    }
+}
+
 /// CPU and GPU performance levels.
 fn perf_levels(
     instance: &xr::Instance,

@@ -7,6 +7,7 @@ use std::time::Instant;
 use openxr as xr;
 
 use super::lifecycle::{ExitReason, Lifecycle};
+use crate::xr::gpu_governor::QualityStep;
 
 /// What a session did, for logs and tests.
 #[derive(Clone, Debug, Default)]
@@ -39,6 +40,10 @@ pub struct Summary {
     pub space: String,
     /// Display refresh rate asked for, if the runtime supports choosing.
     pub refresh_rate: Option<f32>,
+    /// The GPU-time governor's level (`None`: off).
+    pub governor: Option<QualityStep>,
+    /// The GPU-time governor's level changes.
+    pub governor_changes: u32,
 }
 
 impl Summary {
@@ -47,7 +52,8 @@ impl Summary {
         format!(
             "frames_waited={} frames_submitted={} frames_not_rendered={} states={} \
              mean_period_ms={:.3} wait_p50_ms={:.3} wait_p99_ms={:.3} exit={:?} eye={}x{} \
-             format={} depth={} space={} refresh_hz={} runtime=\"{}\"",
+             format={} depth={} space={} refresh_hz={} gpu_governor={} \
+             gpu_governor_changes={} runtime=\"{}\"",
             self.frames_waited,
             self.frames_submitted,
             self.frames_not_rendered,
@@ -63,6 +69,8 @@ impl Summary {
             self.space,
             self.refresh_rate
                 .map_or("n/a".to_string(), |r| format!("{r}")),
+            self.governor.map_or("off", |g| g.name()),
+            self.governor_changes,
             self.runtime
         )
     }
