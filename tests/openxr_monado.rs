@@ -110,6 +110,9 @@ fn ocean_runs_through_monado_focused_and_exits_cleanly() {
     assert_eq!(summary_value(&run, "format"), "R8G8B8A8_SRGB");
     assert_eq!(summary_value(&run, "depth"), "false");
     assert_eq!(summary_value(&run, "space"), "LOCAL_FLOOR");
+    // The GPU-time governor is on by default in the OpenXR path; it reports its level.
+    assert_ne!(summary_value(&run, "gpu_governor"), "off", "{run}");
+    let _: u32 = summary_value(&run, "gpu_governor_changes").parse().unwrap();
     // Monado lists the Touch Plus and Touch Pro extensions: their bindings were accepted.
     for profile in [
         "meta/touch_controller_plus",
@@ -318,7 +321,12 @@ fn a_lost_head_position_keeps_frames_coming() {
 fn the_refresh_rate_never_drops_below_72_hz() {
     // Quest-like rates 60, 72, 90: the app starts at 90; lavapipe cannot hold it, so the
     // governor steps down after two seconds' worth of frames, to 72 and never to 60.
-    let run = run_with_fault("refresh-rates", &["--frames", "240"]);
+    // The GPU-time governor acts on GPU time before the refresh governor does; off here, so
+    // this test sees the refresh governor alone.
+    let run = run_with_fault(
+        "refresh-rates",
+        &["--frames", "240", "--gpu-governor", "off"],
+    );
     assert_eq!(run.status, Some(0), "{run}");
     let asked: Vec<&str> = run
         .stderr

@@ -157,14 +157,17 @@ impl Governed {
             return None;
         }
         let caps = GovernorCaps {
+            supersampling: specular_aa,
             lod: lower_preset(preset).is_some(),
             ..xr.governor_caps()
         };
         log::info!(
-            "GPU-time governor on (budget {}; foveation step {}, render scale {}, LOD step {})",
+            "GPU-time governor on (budget {}; steps: supersampling {}, foveation {}, render \
+             scale {}, LOD {})",
             options
                 .budget
                 .map_or("the frame period".to_string(), |b| format!("{b:?}")),
+            caps.supersampling,
             caps.foveation,
             caps.render_rect,
             caps.lod

@@ -18,8 +18,8 @@
 //!    centred sub-rectangle of 0.85 and 0.7 of their size (the compositor scales it back);
 //! 4. [`QualityStep::LodDown`]: the LOD quality preset one lower (a rebuild: rare).
 //!
-//! Levels the backend cannot apply (no foveation to raise, no sub-rectangle on a window) are
-//! left out when the governor is made ([`GpuGovernor::new`]), so a step is never wasted.
+//! Levels that cannot be applied (supersampling already off, no foveation to raise, no
+//! sub-rectangle on a window) are left out when the governor is made ([`GpuGovernor::new`]), so a step is never wasted.
 //!
 //! Rules (constants on [`GpuGovernor`]): the statistic is the median of the GPU time as a
 //! share of the period over the last [`GpuGovernor::WINDOW_S`] (robust to single spikes); it
@@ -93,12 +93,15 @@ impl QualityStep {
 /// What the backend lets the governor change besides the renderer's own settings.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct GovernorCaps {
+    /// The specular AA supersamples now, so turning it off saves something
+    /// ([`QualityStep::NoSupersampling`]; the app's to say).
+    pub supersampling: bool,
     /// Fixed foveation can be raised one level ([`QualityStep::FoveationUp`]).
     pub foveation: bool,
     /// The eye images can be shown from a sub-rectangle ([`QualityStep::Scale85`],
     /// [`QualityStep::Scale70`]).
     pub render_rect: bool,
-    /// A lower LOD preset exists ([`QualityStep::LodDown`]).
+    /// A lower LOD preset exists ([`QualityStep::LodDown`]; the app's to say).
     pub lod: bool,
 }
 
@@ -158,10 +161,10 @@ impl GpuGovernor {
     /// The longest back-off (s).
     pub const MAX_BACKOFF_S: f64 = 64.0;
 
-    /// A governor at [`QualityStep::Full`] that uses only the levels `caps` allow (the
-    /// supersampling level always; it costs the backend nothing).
+    /// A governor at [`QualityStep::Full`] that uses only the levels `caps` allow.
     pub fn new(caps: GovernorCaps) -> Self {
         let mut available = [true; 6];
+        available[QualityStep::NoSupersampling.index()] = caps.supersampling;
         available[QualityStep::FoveationUp.index()] = caps.foveation;
         available[QualityStep::Scale85.index()] = caps.render_rect;
         available[QualityStep::Scale70.index()] = caps.render_rect;
@@ -316,6 +319,7 @@ mod tests {
 
     fn all() -> GovernorCaps {
         GovernorCaps {
+            supersampling: true,
             foveation: true,
             render_rect: true,
             lod: true,
@@ -392,10 +396,17 @@ mod tests {
 
     #[test]
     fn levels_the_backend_cannot_apply_are_skipped() {
-        let mut g = GpuGovernor::new(GovernorCaps::default());
+        let mut g = GpuGovernor::new(GovernorCaps {
+            supersampling: true,
+            ..GovernorCaps::default()
+        });
         let changes = run(&mut g, 0..72 * 10, |_| Some(2.0));
         let levels: Vec<_> = changes.iter().map(|c| c.1).collect();
         assert_eq!(levels, [QualityStep::NoSupersampling]);
+        assert!(g.state().exhausted);
+        // Supersampling already off and a window: nothing to step, ever.
+        let mut g = GpuGovernor::new(GovernorCaps::default());
+        assert!(run(&mut g, 0..72 * 10, |_| Some(2.0)).is_empty());
         assert!(g.state().exhausted);
     }
 

@@ -57,7 +57,7 @@ pub use solids::{Shape, Solid, SolidInstance, SolidKind, SolidVertex, MAX_SOLIDS
 /// The most cascades the shaders read (a `vec4` of patch sizes).
 pub const MAX_CASCADES: usize = 4;
 
-/// Renderer settings fixed at creation.
+/// Renderer settings fixed at creation (the specular AA can be switched later).
 #[derive(Clone, Copy, Debug)]
 pub struct RendererSettings {
     /// Multiview or the two-pass fallback.
@@ -66,7 +66,7 @@ pub struct RendererSettings {
     pub msaa: Msaa,
     /// Specular anti-aliasing: the slope variance a pixel cannot show (unresolved waves,
     /// filtered normal maps, sub-pixel normal variation) widens the sun's highlight instead of
-    /// sparkling.
+    /// sparkling. Switchable at run time ([`OceanRenderer::set_specular_aa`]).
     pub specular_aa: bool,
     /// Whitecaps: foam where the simulation's whole-surface coverage
     /// ([`crate::sim::whitecaps`]) says the sea breaks. Off for comparisons only.

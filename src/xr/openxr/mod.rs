@@ -534,7 +534,9 @@ impl FrameLoop for OpenXr {
         GovernorCaps {
             foveation: self.session().foveation.is_some() && base.higher().is_some(),
             render_rect: true,
-            lod: true,
+            // The app's to say.
+            supersampling: false,
+            lod: false,
         }
     }
 
