@@ -131,6 +131,9 @@ pub struct RunReport {
     pub validation_errors: u32,
     /// The device's name.
     pub device: String,
+    /// The shading paths and invocations counted per frame, when the renderer counted them
+    /// ([`RendererSettings::count_paths`]).
+    pub paths: Option<render::budget::PathCounts>,
 }
 
 /// What a caller of [`run`] hears about while frames go by.
@@ -398,6 +401,10 @@ impl<'a> Frames<'a> {
         let gpu = self.xr.gpu();
         gpu.wait_idle();
         let attachment_bytes = self.renderer.attachment_bytes();
+        let paths = self.renderer.path_counts(gpu).unwrap_or_else(|e| {
+            log::warn!("the pass's counts could not be read: {e}");
+            None
+        });
         self.renderer.destroy(gpu);
         if let Some(r) = self.readback.as_mut() {
             r.destroy(gpu);
@@ -410,6 +417,7 @@ impl<'a> Frames<'a> {
             attachment_bytes,
             validation_errors: 0,
             device: gpu.device_name.clone(),
+            paths,
         };
         (report, self.xr)
     }

@@ -11,7 +11,8 @@
 //! - `mesh`: the patch, skirt and sky meshes, uploaded once;
 //! - `targets`: views and framebuffers of the target images;
 //! - `pass`: the uniforms, cascade fades and the pass's recording;
-//! - `solids`: the floating bodies' and the deck's meshes and instances.
+//! - `solids`: the floating bodies' and the deck's meshes and instances;
+//! - `probe`: the counting variant's tally and pipeline statistics (`vr-ocean gpu-budget`).
 //!
 //! Invariants:
 //! - A slot is reused only after its fence signals, so the CPU never writes memory the GPU
@@ -25,6 +26,7 @@
 mod foam_pattern;
 mod mesh;
 mod pass;
+mod probe;
 mod sky_map;
 mod slots;
 pub mod solids;
@@ -40,10 +42,12 @@ use glam::Vec3;
 use self::foam_pattern::FoamPattern;
 use self::mesh::MeshBuffers;
 use self::pass::{PassConstants, PassRecorder, ResolveAfter};
+use self::probe::PathProbe;
 use self::sky_map::SkyMap;
 use self::slots::{SlotSizes, Slots, TIMESTAMP_QUERIES};
 use self::targets::Targets;
 use self::textures::CascadeTextures;
+use super::budget::PathCounts;
 use super::context::GpuContext;
 use super::error::RenderError;
 use super::pipeline::{Msaa, PassLayout, Pipelines, StereoMode};
@@ -84,6 +88,10 @@ pub struct RendererSettings {
     /// [`TONEMAP_RAMP_TOP`] through the tone curve (tests: the curve and the sRGB store read
     /// back as [`crate::render::tonemap`] says).
     pub tonemap_ramp: bool,
+    /// Count the shading paths the pixels take and the pass's invocations
+    /// ([`OceanRenderer::path_counts`]; `vr-ocean gpu-budget`): the counting variant of the
+    /// fragment shader, which shades the same but writes a tally. Never in a user's run.
+    pub count_paths: bool,
 }
 
 /// The exposed value at the right edge of the tone-map test ramp: past the curve's knee.
@@ -101,6 +109,7 @@ impl Default for RendererSettings {
             fog_distance: 4000.0,
             sky_marker: false,
             tonemap_ramp: false,
+            count_paths: false,
         }
     }
 }
@@ -177,11 +186,15 @@ struct Parts {
     targets: Option<Targets>,
     sky: Option<SkyMap>,
     foam: Option<FoamPattern>,
+    probe: Option<PathProbe>,
     slots: Option<Slots>,
 }
 
 impl Parts {
     fn destroy(&mut self, ctx: &GpuContext) {
+        if let Some(mut p) = self.probe.take() {
+            p.destroy(ctx);
+        }
         if let Some(mut s) = self.slots.take() {
             s.destroy(ctx);
         }
@@ -215,6 +228,7 @@ pub struct OceanRenderer {
     targets: Targets,
     sky: SkyMap,
     foam: FoamPattern,
+    probe: Option<PathProbe>,
     slots: Slots,
     pass: PassConstants,
     extent: vk::Extent2D,
@@ -248,6 +262,7 @@ impl OceanRenderer {
             targets: Some(out_targets),
             sky: Some(sky),
             foam: Some(foam),
+            probe,
             slots: Some(slots),
         } = parts
         else {
@@ -261,6 +276,7 @@ impl OceanRenderer {
             targets: out_targets,
             sky,
             foam,
+            probe,
             slots,
             pass: PassConstants::new(config, lod.settings()),
             extent: targets.extent,
@@ -300,6 +316,9 @@ impl OceanRenderer {
         let t0 = Instant::now();
         let slot = &mut self.slots.ring[index];
         slot.wait(ctx)?;
+        if let Some(p) = self.probe.as_mut() {
+            p.collect(ctx, index)?;
+        }
         let mut wait = t0.elapsed();
         let t1 = Instant::now();
         // The slot's fence has signalled, so its timestamps are ready (on a CPU device they
@@ -359,9 +378,15 @@ impl OceanRenderer {
             StereoMode::TwoPass => &[0, 1],
         };
         let mut draws = 0;
+        if let Some(p) = self.probe.as_mut() {
+            p.begin(d, cmd, index);
+        }
         for &eye in passes {
             let fb = self.targets.framebuffer(input.image, input.depth, eye);
             draws += recorder.record(fb, eye, input.lod, skirt_instance, &solid_draws);
+        }
+        if let Some(p) = self.probe.as_ref() {
+            p.end(d, cmd, index);
         }
         // SAFETY: `cmd` is recording, outside a render pass.
         unsafe {
@@ -422,6 +447,13 @@ impl OceanRenderer {
         Ok(())
     }
 
+    /// The shading paths and invocations counted per frame so far, when the renderer counts
+    /// ([`RendererSettings::count_paths`]); waits for every frame in flight first.
+    pub fn path_counts(&mut self, ctx: &GpuContext) -> Result<Option<PathCounts>, RenderError> {
+        self.wait_all(ctx)?;
+        self.probe.as_mut().map(|p| p.counts(ctx)).transpose()
+    }
+
     /// Waits for every frame in flight (shutdown and read-back only).
     pub fn wait_all(&self, ctx: &GpuContext) -> Result<(), RenderError> {
         let ring = &self.slots.ring;
@@ -437,6 +469,9 @@ impl OceanRenderer {
 
     /// Frees everything. The caller makes sure the GPU is idle (e.g. [`GpuContext::wait_idle`]).
     pub fn destroy(&mut self, ctx: &GpuContext) {
+        if let Some(p) = self.probe.as_mut() {
+            p.destroy(ctx);
+        }
         self.slots.destroy(ctx);
         self.targets.destroy(ctx);
         self.foam.destroy(ctx);
@@ -457,6 +492,12 @@ fn validate(
         return Err(RenderError::Invalid(format!(
             "frames in flight: {} is outside [2, 4]",
             settings.frames_in_flight
+        )));
+    }
+    if !(settings.fog_distance.is_finite() && settings.fog_distance > 0.0) {
+        return Err(RenderError::Invalid(format!(
+            "fog distance {} m: must be a positive number of metres",
+            settings.fog_distance
         )));
     }
     if config.patch_sizes.len() > MAX_CASCADES {
@@ -497,7 +538,9 @@ fn make_parts(
         store_depth: !targets.depth.is_empty(),
         density_map: !targets.density_maps.is_empty(),
     };
-    let pipelines = parts.pipelines.insert(Pipelines::new(ctx, pass)?);
+    let pipelines = parts
+        .pipelines
+        .insert(Pipelines::new(ctx, pass, settings.count_paths)?);
     let textures = parts.textures.insert(CascadeTextures::new(ctx, config)?);
     parts.mesh = Some(MeshBuffers::new(ctx, lod)?);
     parts.targets = Some(Targets::new(ctx, pipelines, targets)?);
@@ -511,6 +554,16 @@ fn make_parts(
     let [disp, norm, caps] = textures.descriptors();
     let foam = parts.foam.insert(FoamPattern::new(ctx)?);
     let images = [disp, norm, caps, sky.descriptor(), foam.descriptor()];
-    parts.slots = Some(Slots::new(ctx, pipelines, &images, sizes, frames)?);
+    let tally = if settings.count_paths {
+        Some(
+            parts
+                .probe
+                .insert(PathProbe::new(ctx, frames)?)
+                .descriptor(),
+        )
+    } else {
+        None
+    };
+    parts.slots = Some(Slots::new(ctx, pipelines, &images, tally, sizes, frames)?);
     Ok(())
 }
