@@ -56,6 +56,27 @@ fn main() {
             )),
         }
     }
+    // The cost variants also need `spirv-opt` (Debian `spirv-tools`); without it the committed
+    // ones stand in (a test fails when they are stale).
+    let optimizer = env::var("SPIRV_OPT").unwrap_or_else(|_| "spirv-opt".into());
+    println!("cargo:rerun-if-env-changed=SPIRV_OPT");
+    for (file, stem, defines) in COST_SHADERS {
+        let target = out.join(format!("{stem}.spv"));
+        let raw = out.join(format!("{stem}.unoptimized.spv"));
+        let made = matches!(
+            compile(&tool, &src.join(file), &raw, &src, defines),
+            Compiled::Yes
+        ) && optimize(&optimizer, &raw, &target);
+        if !made {
+            let spv = committed.join(format!("{stem}.spv"));
+            if let Err(e) = std::fs::copy(&spv, &target) {
+                fail(&format!(
+                    "cannot copy {}: {e} (or install glslang-tools and spirv-tools)",
+                    spv.display()
+                ));
+            }
+        }
+    }
     if !up_to_date {
         println!(
             "cargo:warning=shaders/spirv/ is stale (made from other GLSL): run `cargo xtask \
@@ -94,6 +115,28 @@ fn compile(tool: &str, input: &Path, output: &Path, include: &Path, defines: &[&
         ));
     }
     Compiled::Yes
+}
+
+/// Runs `spirv-opt -O` on `input`; false when the optimizer cannot be run. A module it rejects
+/// is the author's error.
+fn optimize(tool: &str, input: &Path, output: &Path) -> bool {
+    let result = match Command::new(tool)
+        .args(optimizer_args(input, output))
+        .output()
+    {
+        Ok(r) => r,
+        Err(_) => return false,
+    };
+    if !result.status.success() {
+        fail(&format!(
+            "{tool} failed on {}: {}",
+            input.display(),
+            String::from_utf8_lossy(&result.stderr)
+                .trim()
+                .replace('\n', " | ")
+        ));
+    }
+    true
 }
 
 /// Stops the build with one line (cargo shows it under "failed to run custom build command").

@@ -18,7 +18,7 @@ layout(set = 0, binding = 0, std140) uniform Globals {
     vec4 fade_start;
     // Distance (m) at which it is gone (its waves would alias on the coarser mesh there).
     vec4 fade_end;
-    // x: cascade count, y: FFT grid side N, z: fog distance (m), w: 1 = paint the sky magenta
+    // x: cascade count, y: FFT grid side N, z: 1 / fog distance (1/m), w: 1 = paint the sky magenta
     // (tests: any magenta below the horizon is a crack), 2 = paint it with the tone-map test
     // ramp.
     vec4 params;
@@ -35,20 +35,30 @@ layout(set = 0, binding = 0, std140) uniform Globals {
     vec4 sun_illuminance;
     // The sky dome's illuminance on a horizontal surface (rgb, klux), w: env-map levels.
     vec4 sky_illuminance;
+    // Per-frame constants the shaders would otherwise divide by per pixel (a division costs a
+    // reciprocal on the special-function unit): 1 / patch size (1/m) of cascades 0..3...
+    vec4 inv_patch_size;
+    // ...log2 of each patch's ratio to the finest (mip-level offsets from the finest's)...
+    vec4 lod_offset;
+    // ...x, y: 1 / each whitecap level's side (1/m); z: half a texel of the cascades (0.5 / N);
+    // w: 1 / the crest height light starts to shine through (1/m, from the wave height).
+    vec4 derived;
 } g;
 
 const float PI = 3.14159265;
 
 // The sky's prefiltered environment map (`render::ocean::sky_map`, Preetham, kcd/m²): u the
-// azimuth from +x toward +z over 2π (REPEAT), v = sqrt(elevation / (π/2)) (row 0 the horizon,
-// CLAMP), level m prefiltered for GGX roughness m / (levels − 1). The sun disc is not in it.
+// diamond angle of the horizontal direction over 4 (0, ¼, ½, ¾ toward +x, +z, −x, −z; REPEAT),
+// v = sqrt(sin(elevation)) (row 0 the horizon, CLAMP), level m prefiltered for GGX roughness
+// m / (levels − 1). The sun disc is not in it. No inverse trigonometry (`render::sky::bake`).
 layout(set = 0, binding = 4) uniform sampler2DArray u_sky;
 
 // Env-map coordinates of unit direction `d`; below the horizon it reads the horizon.
 vec2 sky_uv(vec3 d) {
-    float u = atan(d.z, d.x) * (0.5 / PI);
-    float e = asin(clamp(d.y, 0.0, 1.0));
-    return vec2(u, sqrt(e * (2.0 / PI)));
+    float s = abs(d.x) + abs(d.z);
+    float t = s > 0.0 ? d.z / s : 0.0;
+    float q = d.x >= 0.0 ? (d.z >= 0.0 ? t : 4.0 + t) : 2.0 - t;
+    return vec2(q * 0.25, sqrt(clamp(d.y, 0.0, 1.0)));
 }
 
 // Sky radiance (linear sRGB, kcd/m²) along unit `d`, prefiltered for GGX roughness `rough`.
@@ -70,11 +80,10 @@ vec3 sky(vec3 d) {
 }
 
 // The radiance distant things fade to along `d`: the sky at the horizon at the same azimuth,
-// so the ocean meets the sky without a seam.
+// so the ocean meets the sky without a seam (the map's horizon row: `sky_uv` needs no unit
+// vector for that).
 vec3 fog_colour(vec3 d) {
-    vec2 h = d.xz;
-    float l = length(h);
-    return sky_env(l > 1e-6 ? vec3(h.x / l, 0.0, h.y / l) : vec3(1.0, 0.0, 0.0), 0.0);
+    return sky_env(vec3(d.x, 0.0, d.z), 0.0);
 }
 
 // Illuminance on a horizontal surface from the sun and the sky (klux).

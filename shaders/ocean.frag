@@ -12,9 +12,15 @@
 //
 // Specular anti-aliasing (g.specular_aa.y = 1). With no temporal filter in a headset, the far
 // sea must not sparkle:
-// - where the finest cascade is minified (its texels smaller than a pixel), the pixel is
-//   shaded at four sub-pixel positions (a rotated grid) from mips chosen for a third of the
-//   pixel's extent, and the colours averaged: supersampling only where shading aliases;
+// - where the finest cascade is minified (its texels under half a pixel), the terms that
+//   alias, those of the surface (the Fresnel weight of the reflected sky and the sun's narrow
+//   highlight, both changing fast with a normal that changes within the pixel), are averaged
+//   over the pixel's own sample and three sub-pixel positions, each from mips chosen for a
+//   third of the pixel's extent. Only the cascades whose texels are under a pixel there are
+//   sampled again; the others, the sky's radiance (prefiltered, smooth) and the dim rest (the
+//   water body, foam, fog) come from the pixel's own sample. Issue 28: supersampling the whole
+//   water model at four positions cost 1.6x the pass on lavapipe; this costs 1.3x for the same
+//   far-band error facing the sun (docs/notes/gpu-cost-model.md has the levers tried);
 // - the slope variance a shading sample still cannot show widens the GGX lobe: filtered out of
 //   the normal maps (Toksvig: an averaged normal is shorter; the variance (1 - |n|)/|n| beyond
 //   the level-0, material shortening), of the waves no cascade shows (Bruneton, Neyret &
@@ -23,6 +29,66 @@
 //   clamped).
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
+
+// The choices a pixel makes, and the probes of `vr-ocean gpu-budget` (`render::budget`).
+// Normally every choice is the pixel's own. A cost variant (COST_PATH defined, built by
+// `shaders/shader_table.rs` and optimized) takes fixed ones with COST_CASCADES cascades, so that
+// after inlining and unrolling its one straight-line function is that path's work: 1 the sky,
+// 2 water shaded once, 3 water with its highlight supersampled (COST_RESAMPLED of the finest
+// cascades sampled again), 4 water shaded once with foam, 5 water without anti-aliasing. The
+// counting variant (COUNT_PATHS) tallies in a storage buffer which paths the pixels took.
+// Every loop is unrolled ([[unroll]], constant bounds: cascade loops run to MAX_CASCADES and
+// skip the cascades beyond the count), so per-cascade arrays stay in registers; a loop bounded
+// by the uniform count left lavapipe indexing them in memory (3x the pass's time).
+#extension GL_EXT_control_flow_attributes : require
+#define UNROLL [[unroll]]
+#ifdef COST_PATH
+// The cost variants unroll the sub-samples too (one straight-line function to count); the
+// pipeline's shader keeps them a loop: one copy of each sample's code, where lavapipe's
+// inlined texture code would otherwise grow fourfold.
+#define UNROLL_SUBSAMPLES [[unroll]]
+#define CASCADE_COUNT COST_CASCADES
+#define TAKES_SKY(cond) (COST_PATH == 1)
+#define TAKES_PLAIN(cond) (COST_PATH == 5)
+#define TAKES_SUPERSAMPLING(cond) (COST_PATH == 3)
+#define TAKES_FOAM(cond) (COST_PATH == 4)
+#define RESAMPLES(c, cond) ((c) >= COST_CASCADES - COST_RESAMPLED)
+#else
+#define UNROLL_SUBSAMPLES [[dont_unroll]]
+#define CASCADE_COUNT int(g.params.x)
+#define TAKES_SKY(cond) (cond)
+#define TAKES_PLAIN(cond) (cond)
+#define TAKES_SUPERSAMPLING(cond) (cond)
+#define TAKES_FOAM(cond) (cond)
+#define RESAMPLES(c, cond) (cond)
+#endif
+// Under fixed foveation (a fragment density map, `FRAGMENT_DENSITY`), a peripheral fragment
+// covers several pixels (gl_FragSizeEXT) and is shown at that coarser rate anyway: its surface
+// is shaded once, with the variance of its whole footprint, never supersampled.
+#ifdef FRAGMENT_DENSITY
+#extension GL_EXT_fragment_invocation_density : require
+#define FULL_DENSITY (gl_FragSizeEXT.x * gl_FragSizeEXT.y == 1)
+#else
+#define FULL_DENSITY true
+#endif
+// Tallies of `render::budget::PathCounts`, in this order.
+const uint COUNT_SKY = 0u;
+const uint COUNT_SINGLE = 1u;
+const uint COUNT_SUPERSAMPLED = 2u;
+const uint COUNT_FOAM = 3u;
+const uint COUNT_PLAIN = 4u;
+const uint COUNT_RESAMPLES = 5u;
+#ifdef COUNT_PATHS
+// A shader with side effects would otherwise run before the depth test: keep it where the
+// real one runs (it writes no depth and discards nothing, so early tests change no image).
+layout(early_fragment_tests) in;
+layout(set = 0, binding = 6, std430) buffer PathTally {
+    uint tally[8];
+} t_paths;
+#define COUNT(what, n) atomicAdd(t_paths.tally[what], n)
+#else
+#define COUNT(what, n)
+#endif
 
 layout(set = 0, binding = 2) uniform sampler2DArray u_normal_foam;
 // Whitecap coverage of the whole surface, one layer per level, toroidal (`sim::whitecaps`).
@@ -59,11 +125,19 @@ const vec3 FOAM_ALBEDO = vec3(0.75, 0.78, 0.8);
 // (Tokuyoshi & Kaplanyan 2019).
 const float PIXEL_VARIANCE = 0.25;
 const float MAX_KERNEL_ALPHA2 = 0.18;
-// Sub-pixel positions of the supersampled shading (rotated grid, in pixels).
-const vec2 SUBSAMPLES[4] = vec2[4](
-    vec2(-0.125, -0.375), vec2(0.375, -0.125), vec2(0.125, 0.375), vec2(-0.375, 0.125));
-// Mip level of the finest cascade above which a pixel is supersampled.
-const float SUPERSAMPLE_FROM_LOD = 0.5;
+// Sub-pixel positions (in pixels) of the supersampled surface besides the pixel's own sample at
+// its centre: a triangle around it.
+const int SUBSAMPLE_COUNT = 3;
+const vec2 SUBSAMPLES[SUBSAMPLE_COUNT] =
+    vec2[SUBSAMPLE_COUNT](vec2(0.0, -0.35), vec2(0.3, 0.175), vec2(-0.3, 0.175));
+// Mip level of the finest cascade above which a pixel's surface is supersampled.
+const float SUPERSAMPLE_FROM_LOD = 1.0;
+// Mip level from which a cascade is sampled again at the sub-pixel positions (its texels under
+// a pixel: below that its normal changes smoothly across the pixel, and the pixel's own sample
+// stands for it).
+const float RESAMPLE_FROM_LOD = 0.0;
+// The most cascades (`render::ocean::MAX_CASCADES`).
+const int MAX_CASCADES = 4;
 
 // Texels per side of a whitecap level (`sim::whitecaps::WHITECAP_TEXELS`).
 const float WHITECAP_TEXELS = 256.0;
@@ -98,12 +172,12 @@ const float FOAM_ROUGHNESS_A2 = 0.25;
 // the pixel's footprint (`dx`, `dy`), so the mips give the area's coverage far away.
 float whitecap_coverage(vec2 xz, vec2 dx, vec2 dy) {
     float cover = g.whitecaps[1].w;
-    for (int l = 1; l >= 0; --l) {
+    UNROLL for (int l = 1; l >= 0; --l) {
         vec4 level = g.whitecaps[l];
-        float side = level.z * WHITECAP_TEXELS;
-        vec2 uv = xz / side + 0.5 / WHITECAP_TEXELS;
-        float c = textureGrad(u_whitecaps, vec3(uv, float(l)), dx / side, dy / side).r;
-        vec2 d = abs(xz - level.xy) / (0.5 * side);
+        float inv_side = g.derived[l];
+        vec2 uv = xz * inv_side + 0.5 / WHITECAP_TEXELS;
+        float c = textureGrad(u_whitecaps, vec3(uv, float(l)), dx * inv_side, dy * inv_side).r;
+        vec2 d = abs(xz - level.xy) * (2.0 * inv_side);
         cover = mix(cover, c, 1.0 - smoothstep(0.8, 0.95, max(d.x, d.y)));
     }
     return cover;
@@ -158,8 +232,29 @@ float bubbles_under(vec2 xz, vec3 v, vec3 n, vec2 dx, vec2 dy, float c) {
 // The averaged normal's length a smoothness encodes: eq. 53 inverted.
 float normal_length(float smoothness) {
     float r = (1.0 - smoothness) * (1.0 - smoothness);
-    float t = (-0.85 + sqrt(0.7225 + 0.6 * (1.0 - r))) / 0.3;
+    float t = (-0.85 + sqrt(0.7225 + 0.6 * (1.0 - r))) * (1.0 / 0.3);
     return (clamp(t, 0.0, 1.0) + 2.0) / 3.0;
+}
+
+// One cascade's normal-map texel decoded: its slope (n.xz / n.y), foam (eq. 51), smoothness
+// (eq. 53) and the slope variance its filtering hid (Toksvig, beyond the level-0 material's).
+struct CascadeSample {
+    vec2 slope;
+    float foam;
+    float smoothness;
+    float filtered;
+};
+
+CascadeSample decode_cascade(vec4 t) {
+    CascadeSample s;
+    vec2 nxz = t.rg * 2.0 - 1.0;
+    // n.xz / n.y, n.y = sqrt(1 - |n.xz|²) (floored).
+    s.slope = nxz * inversesqrt(max(1.0 - dot(nxz, nxz), 0.05));
+    s.foam = t.b;
+    s.smoothness = t.a;
+    float len = normal_length(t.a);
+    s.filtered = max(1.0 / len - 1.0 - g.specular_aa.z, 0.0);
+    return s;
 }
 
 // The water at one shading position.
@@ -170,31 +265,27 @@ struct Water {
     float filtered;    // slope variance filtered out of the normal maps (Toksvig)
 };
 
-// Sums the cascades' slopes (n.xz / n.y), combines foam as independent coverage, keeps the
-// roughest smoothness. `dx`, `dy`: the footprint's extent in world xz (texture gradients);
-// `implicit`: take the hardware's own derivatives (the single-sampled path, bit-for-bit the
-// shading without anti-aliasing).
-Water water_at(vec2 xz, vec2 dx, vec2 dy, bool implicit) {
+// The pixel's own sample of every cascade (the hardware's derivatives pick the mips), kept per
+// cascade for the supersampled highlight, which replaces only the minified ones.
+struct PixelCascades {
+    CascadeSample c[MAX_CASCADES];
+};
+
+// Sums the cascades' slopes, combines foam as independent coverage, keeps the roughest
+// smoothness.
+Water water_of(PixelCascades p, int cascades) {
     Water w;
     vec2 slope = vec2(0.0);
     float clear = 1.0;
     w.smoothness = 1.0;
     w.filtered = 0.0;
-    int cascades = int(g.params.x);
-    float half_texel = 0.5 / g.params.y;
-    for (int c = 0; c < cascades; ++c) {
-        vec2 uv = xz / g.patch_size[c] + half_texel;
-        vec4 t = implicit
-            ? texture(u_normal_foam, vec3(uv, float(c)))
-            : textureGrad(u_normal_foam, vec3(uv, float(c)), dx / g.patch_size[c],
-                          dy / g.patch_size[c]);
-        vec2 nxz = t.rg * 2.0 - 1.0;
-        float ny = sqrt(max(1.0 - dot(nxz, nxz), 0.05));
-        slope += nxz / ny;
-        clear *= 1.0 - t.b;
-        w.smoothness = min(w.smoothness, t.a);
-        float len = normal_length(t.a);
-        w.filtered += max((1.0 - len) / len - g.specular_aa.z, 0.0);
+    UNROLL for (int c = 0; c < MAX_CASCADES; ++c) {
+        if (c < cascades) {
+            slope += p.c[c].slope;
+            clear *= 1.0 - p.c[c].foam;
+            w.smoothness = min(w.smoothness, p.c[c].smoothness);
+            w.filtered += p.c[c].filtered;
+        }
     }
     w.n = normalize(vec3(slope.x, 1.0, slope.y));
     w.foam = 1.0 - clear;
@@ -216,73 +307,153 @@ struct Foam {
 // than Schlick's flat-surface value. σ_v² = α²/2 for the isotropic lobe of GGX α² `a2`.
 float mean_fresnel(float ndotv, float a2) {
     float sigma_v = sqrt(0.5 * a2);
-    float f = pow(1.0 - ndotv, 5.0 * exp(-2.69 * sigma_v)) / (1.0 + 22.7 * pow(sigma_v, 1.5));
+    float f = pow(1.0 - ndotv, 5.0 * exp(-2.69 * sigma_v))
+        / (1.0 + 22.7 * sigma_v * sqrt(sigma_v));
     return WATER_F0 + (1.0 - WATER_F0) * f;
 }
 
-// Radiance leaving the water toward the eye along `v` at height `height` (m above the mean
-// sea); `unshown`: slope variance the normal does not show (specular anti-aliasing: the
-// unresolved waves' and what filtering hid), < 0 for the plain shading (which still counts
-// the unresolved waves').
-vec3 shade(Water w, Foam f, vec3 v, float height, float unshown) {
-    vec3 n = w.n;
-    float ndotv = max(dot(n, v), 1e-3);
-    vec3 l = g.sun.xyz;
-
-    // GGX roughness; smoothness 1 is a mirror, clamped so the sun stays a few pixels wide.
-    // The slopes no cascade shows (the observed total's remainder) roughen it in every path:
-    // they are the sea's, not a filter's.
-    float rough = max(1.0 - w.smoothness, MIN_ROUGHNESS);
+// GGX α² at a shading sample of smoothness `smoothness`; `unshown`: slope variance the normal
+// does not show (specular anti-aliasing: the unresolved waves' and what filtering hid), < 0 for
+// the plain shading (which still counts the unresolved waves'). Broken water around foam of
+// coverage `coverage` is rougher.
+float sample_a2(float smoothness, float unshown, float coverage) {
+    // Smoothness 1 is a mirror, clamped so the sun stays a few pixels wide. The slopes no
+    // cascade shows (the observed total's remainder) roughen it in every path: they are the
+    // sea's, not a filter's.
+    float rough = max(1.0 - smoothness, MIN_ROUGHNESS);
     float a2 = rough * rough * rough * rough + g.specular_aa.x;
     if (unshown >= 0.0) {
         // The level-0 look, plus the slope variance this sample cannot show.
         a2 = min(g.specular_aa.w + unshown, 1.0);
     }
-    // Broken water around the foam is rougher.
-    a2 = min(a2 + FOAM_ROUGHNESS_A2 * f.coverage, 1.0);
-    float alpha_rough = sqrt(sqrt(a2));
-    float fresnel = mean_fresnel(ndotv, a2);
-    // The sky reflected, from the map level prefiltered for this roughness, the ray kept
-    // above the horizon.
-    vec3 r = reflect(-v, n);
-    r.y = abs(r.y);
-    vec3 reflected = sky_env(r, alpha_rough);
+    return min(a2 + FOAM_ROUGHNESS_A2 * coverage, 1.0);
+}
 
-    // The water body: light scattered back up by the water (greener at grazing views, which
-    // see the light that crossed the thin upper layer), the bubbles below the foam, and the
-    // sun through thin crests between the eye and the sun (strongest high on a wave whose
-    // back faces the sun), each tinted by the absorption along its path.
+// What the sun's highlight needs of the view alone, the same for every normal of a pixel:
+// the view, the half vector and Schlick's Fresnel at it.
+struct SunView {
+    vec3 v;
+    vec3 hv;
+    float fresnel;
+};
+
+SunView sun_view(vec3 v) {
+    SunView s;
+    s.v = v;
+    s.hv = normalize(g.sun.xyz + v);
+    float x = 1.0 - max(dot(v, s.hv), 0.0);
+    float x2 = x * x;
+    s.fresnel = WATER_F0 + (1.0 - WATER_F0) * x2 * x2 * x;
+    return s;
+}
+
+// The sun's highlight on normal `n` for GGX α² `a2`, per unit of the sun's illuminance: GGX D,
+// Schlick F at the half vector, height-correlated Smith visibility.
+float sun_highlight(vec3 n, SunView s, float a2) {
+    float ndotv = max(dot(n, s.v), 1e-3);
+    float ndoth = max(dot(n, s.hv), 0.0);
+    float ndotl = max(dot(n, g.sun.xyz), 0.0);
+    float dd = ndoth * ndoth * (a2 - 1.0) + 1.0;
+    float vis = 0.5 / (ndotl * sqrt(ndotv * ndotv * (1.0 - a2) + a2)
+                       + ndotv * sqrt(ndotl * ndotl * (1.0 - a2) + a2) + 1e-6);
+    // D · Vis in one division: a2 / (π dd²) · vis.
+    return a2 * vis * s.fresnel * ndotl / (PI * dd * dd);
+}
+
+// The light of the water body toward the eye along `v` at height `height` (m above the mean
+// sea), normal `n`: light scattered back up by the water (greener at grazing views, which see
+// the light that crossed the thin upper layer), the bubbles below the foam, and the sun through
+// thin crests between the eye and the sun (strongest high on a wave whose back faces the sun),
+// each tinted by the absorption along its path. Dim and smooth: shaded once per pixel.
+vec3 water_body(vec3 n, Foam f, vec3 v, float height) {
+    float ndotv = max(dot(n, v), 1e-3);
+    vec3 l = g.sun.xyz;
     vec3 irradiance = horizontal_illuminance();
     float grazing = (1.0 - ndotv) * (1.0 - ndotv);
     vec3 body = mix(WATER_BODY_REFLECTANCE, WATER_BODY_GRAZING, grazing) * irradiance / PI;
     vec3 bubble_tint = exp(-PURE_WATER_ABSORPTION * 2.0 * BUBBLE_DEPTH);
     body += BUBBLE_REFLECTANCE * f.bubbles * bubble_tint * irradiance / PI;
-    float crest = clamp(height / max(0.5 * g.sun.w, 0.05), 0.0, 1.0);
-    float behind = pow(max(dot(-v, l), 0.0), 4.0);
+    float crest = clamp(height * g.derived.w, 0.0, 1.0);
+    float behind = max(dot(-v, l), 0.0);
+    behind *= behind;
+    behind *= behind;
     float back_lit = (0.5 - 0.5 * dot(l, n)) * (0.5 - 0.5 * dot(l, n));
     vec3 crest_tint = WATER_SCATTER_COLOUR * exp(-PURE_WATER_ABSORPTION * CREST_PATH);
     body += g.sun_illuminance.rgb * (CREST_TRANSMITTANCE / PI * crest * behind * back_lit)
             * crest_tint;
-    vec3 colour = mix(body, reflected, fresnel);
+    return body;
+}
 
-    // The sun: GGX D, Schlick F at the half vector, height-correlated Smith visibility.
-    vec3 hv = normalize(l + v);
-    float ndoth = max(dot(n, hv), 0.0);
-    float ndotl = max(dot(n, l), 0.0);
-    float dd = ndoth * ndoth * (a2 - 1.0) + 1.0;
-    float ggx = a2 / (PI * dd * dd);
-    float vis = 0.5 / (ndotl * sqrt(ndotv * ndotv * (1.0 - a2) + a2)
-                       + ndotv * sqrt(ndotl * ndotl * (1.0 - a2) + a2) + 1e-6);
-    float f_sun = WATER_F0 + (1.0 - WATER_F0) * pow(1.0 - max(dot(v, hv), 0.0), 5.0);
-    colour += g.sun_illuminance.rgb * (ggx * vis * f_sun * ndotl);
+// `surface_light` with the sky's reflected radiance `reflected` given.
+vec3 surface_over(vec3 n, vec3 body, vec3 reflected, SunView sv, float a2) {
+    float fresnel = mean_fresnel(max(dot(n, sv.v), 1e-3), a2);
+    return mix(body, reflected, fresnel) + g.sun_illuminance.rgb * sun_highlight(n, sv, a2);
+}
 
-    // Foam: a diffuse white layer over the share of the pixel it covers.
-    vec3 foam = FOAM_ALBEDO * irradiance / PI;
+// The water's surface over its `body` light, seen along `v` with normal `n` and GGX α² `a2`:
+// the sky reflected (from the map level prefiltered for this roughness, the ray kept above the
+// horizon) over the body, weighted by the mean Fresnel; and the sun's highlight. The terms
+// that change fast with the normal: supersampled where the cascades are minified.
+vec3 surface_light(vec3 n, vec3 body, SunView sv, float a2) {
+    vec3 r = reflect(-sv.v, n);
+    r.y = abs(r.y);
+    return surface_over(n, body, sky_env(r, sqrt(sqrt(a2))), sv, a2);
+}
+
+// Foam: a diffuse white layer over the share of the pixel it covers.
+vec3 with_foam(vec3 colour, Foam f) {
+    vec3 foam = FOAM_ALBEDO * horizontal_illuminance() / PI;
     return mix(colour, foam, f.drawn);
 }
 
+// The surface's light over the pixel's `body` and `reflected` sky, averaged over the pixel's
+// `own` and the sub-pixel positions: cascades whose texels are under a pixel (`resample`) are
+// sampled again there with a third of the pixel's footprint (`hx`, `hy`), the others keep the
+// pixel's sample `p`. `unshown`: the slope variance every sub-sample adds to its filtered one
+// (unresolved waves, the footprint's normal change).
+vec3 supersampled_surface(PixelCascades p, int cascades, bool resample[MAX_CASCADES], vec2 dx,
+                          vec2 dy, vec3 body, vec3 reflected, vec3 own, SunView sv,
+                          float unshown, float coverage) {
+    vec2 hx = dx * (1.0 / 3.0);
+    vec2 hy = dy * (1.0 / 3.0);
+    vec2 pixel_slope = vec2(0.0);
+    UNROLL for (int c = 0; c < MAX_CASCADES; ++c) {
+        if (c < cascades) {
+            pixel_slope += p.c[c].slope;
+        }
+    }
+    float half_texel = g.derived.z;
+    vec3 sum = own;
+    UNROLL_SUBSAMPLES for (int i = 0; i < SUBSAMPLE_COUNT; ++i) {
+        vec2 xz = v_xz + SUBSAMPLES[i].x * dx + SUBSAMPLES[i].y * dy;
+        vec2 slope = pixel_slope;
+        float smoothness = 1.0;
+        float filtered = 0.0;
+        UNROLL for (int c = 0; c < MAX_CASCADES; ++c) {
+            if (c < cascades) {
+                CascadeSample s = p.c[c];
+                if (resample[c]) {
+                    float inv_size = g.inv_patch_size[c];
+                    vec4 t = textureGrad(u_normal_foam,
+                                         vec3(xz * inv_size + half_texel, float(c)),
+                                         hx * inv_size, hy * inv_size);
+                    s = decode_cascade(t);
+                    slope += s.slope - p.c[c].slope;
+                }
+                smoothness = min(smoothness, s.smoothness);
+                filtered += s.filtered;
+            }
+        }
+        vec3 n = normalize(vec3(slope.x, 1.0, slope.y));
+        float a2 = sample_a2(smoothness, filtered + unshown, coverage);
+        sum += surface_over(n, body, reflected, sv, a2);
+    }
+    return sum * (1.0 / float(SUBSAMPLE_COUNT + 1));
+}
+
 void main() {
-    if (v_sky != 0u) {
+    if (TAKES_SKY(v_sky != 0u)) {
+        COUNT(COUNT_SKY, 1u);
         vec3 d = normalize(v_world);
         vec3 c = d.y >= 0.0 ? sky(d) : fog_colour(d);
         if (g.params.w > 1.5) {
@@ -299,50 +470,81 @@ void main() {
     vec2 dx = dFdx(v_xz);
     vec2 dy = dFdy(v_xz);
 
-    // Everything that takes implicit derivatives happens here, in uniform control flow.
-    Water w = water_at(v_xz, dx, dy, true);
-    // Foam coverage: the whole surface's whitecaps, or each cascade's own foam (eq. 51) when
-    // whitecaps are off.
-    Foam f;
-    f.coverage = g.whitecaps[1].w < 0.0 ? w.foam : whitecap_coverage(v_xz, dx, dy);
-    f.drawn = drawn_foam(v_xz, dx, dy, f.coverage);
-    f.bubbles = bubbles_under(v_xz, v, w.n, dx, dy, f.coverage);
-    float height = v_world.y;
+    // Everything that takes implicit derivatives happens here, in uniform control flow: the
+    // pixel's own sample of each cascade (the hardware picks the mips), the normal's change
+    // across the pixel, and the finest cascade's mip level.
+    int cascades = CASCADE_COUNT;
+    float half_texel = g.derived.z;
+    PixelCascades p;
+    UNROLL for (int c = 0; c < MAX_CASCADES; ++c) {
+        if (c < cascades) {
+            vec2 uv = v_xz * g.inv_patch_size[c] + half_texel;
+            p.c[c] = decode_cascade(texture(u_normal_foam, vec3(uv, float(c))));
+        }
+    }
+    Water w = water_of(p, cascades);
     vec3 dndx = dFdx(w.n);
     vec3 dndy = dFdy(w.n);
-    int cascades = int(g.params.x);
-    float half_texel = 0.5 / g.params.y;
-    vec2 finest_uv = v_xz / g.patch_size[cascades - 1] + half_texel;
+    vec2 finest_uv = v_xz * g.inv_patch_size[cascades - 1] + half_texel;
     float lod = textureQueryLod(u_normal_foam, finest_uv).x;
 
+    // Foam coverage: the whole surface's whitecaps, or each cascade's own foam (eq. 51) when
+    // whitecaps are off. Where there is none, the pattern and the bubbles are not looked at
+    // (both are zero at zero coverage); explicit gradients keep them valid in this branch.
+    Foam f;
+    f.coverage = g.whitecaps[1].w < 0.0 ? w.foam : whitecap_coverage(v_xz, dx, dy);
+    f.drawn = 0.0;
+    f.bubbles = 0.0;
+    if (TAKES_FOAM(f.coverage > 0.0)) {
+        COUNT(COUNT_FOAM, 1u);
+        f.drawn = drawn_foam(v_xz, dx, dy, f.coverage);
+        f.bubbles = bubbles_under(v_xz, v, w.n, dx, dy, f.coverage);
+    }
+    float height = v_world.y;
+
     vec3 colour;
-    if (g.specular_aa.y < 0.5) {
-        colour = shade(w, f, v, height, -1.0);
+    SunView sv = sun_view(v);
+    vec3 body = water_body(w.n, f, v, height);
+    if (TAKES_PLAIN(g.specular_aa.y < 0.5)) {
+        COUNT(COUNT_PLAIN, 1u);
+        colour = surface_light(w.n, body, sv, sample_a2(w.smoothness, -1.0, f.coverage));
     } else {
         float kernel = min(2.0 * PIXEL_VARIANCE * (dot(dndx, dndx) + dot(dndy, dndy)),
                            MAX_KERNEL_ALPHA2);
         // The slopes no cascade shows (the observed total's remainder, `sim::spectrum::
         // unresolved_slope_variance`) roughen every sample, near or far.
         float tail = g.specular_aa.x;
-        if (lod > SUPERSAMPLE_FROM_LOD) {
-            // Four shading positions, each filtering a third of the pixel's extent (mips
-            // log2(3) levels finer), their variance terms scaled to that footprint: the
-            // normal's change across it is a ninth of that across the pixel.
-            vec2 hx = dx / 3.0;
-            vec2 hy = dy / 3.0;
-            colour = vec3(0.0);
-            for (int i = 0; i < 4; ++i) {
-                vec2 xz = v_xz + SUBSAMPLES[i].x * dx + SUBSAMPLES[i].y * dy;
-                Water s = water_at(xz, hx, hy, false);
-                colour += shade(s, f, v, height, s.filtered + tail + kernel / 9.0);
+        if (TAKES_SUPERSAMPLING(lod > SUPERSAMPLE_FROM_LOD && FULL_DENSITY)) {
+            // Each sub-sample filters a third of the pixel's extent (mips log2(3) levels
+            // finer), its variance terms scaled to that footprint: the normal's change across
+            // it is a ninth of that across the pixel. A cascade's mip level is the finest's
+            // less log2 of its patch's ratio to the finest patch (`g.lod_offset`).
+            bool resample[MAX_CASCADES];
+            UNROLL for (int c = 0; c < MAX_CASCADES; ++c) {
+                resample[c] = c < cascades
+                    && RESAMPLES(c, lod - g.lod_offset[c] > RESAMPLE_FROM_LOD);
+                COUNT(COUNT_RESAMPLES, resample[c] ? 1u : 0u);
             }
-            colour *= 0.25;
+            COUNT(COUNT_SUPERSAMPLED, 1u);
+            // The sky reflected once, along the pixel's normal from the map level of the
+            // pixel's whole footprint: smooth, prefiltered light, whose weight (Fresnel) and
+            // the sun's highlight are what change within the pixel.
+            float a2 = sample_a2(w.smoothness, w.filtered + tail + kernel, f.coverage);
+            vec3 r = reflect(-v, w.n);
+            r.y = abs(r.y);
+            vec3 reflected = sky_env(r, sqrt(sqrt(a2)));
+            vec3 own = surface_over(w.n, body, reflected, sv, a2);
+            colour = supersampled_surface(p, cascades, resample, dx, dy, body, reflected, own,
+                                          sv, tail + kernel * (1.0 / 9.0), f.coverage);
         } else {
-            colour = shade(w, f, v, height, w.filtered + tail + kernel);
+            COUNT(COUNT_SINGLE, 1u);
+            float a2 = sample_a2(w.smoothness, w.filtered + tail + kernel, f.coverage);
+            colour = surface_light(w.n, body, sv, a2);
         }
     }
+    colour = with_foam(colour, f);
 
-    float fog = 1.0 - exp(-dist / g.params.z);
+    float fog = 1.0 - exp(-dist * g.params.z);
     colour = mix(colour, fog_colour(-v), fog);
     o_colour = vec4(display(colour), 1.0);
 }

@@ -10,6 +10,16 @@
 #endif
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
+// The cost variant of `vr-ocean gpu-budget` (`render::budget`): a fixed cascade count and the
+// cascade loop unrolled, so that the optimized module is one straight-line function.
+#ifdef COST_CASCADES
+#extension GL_EXT_control_flow_attributes : require
+#define UNROLL [[unroll]]
+#define CASCADE_COUNT COST_CASCADES
+#else
+#define UNROLL
+#define CASCADE_COUNT int(g.params.x)
+#endif
 
 // eye: the eye of this pass (two-pass fallback only); mode: 0 = patch, 1 = skirt, 2 = sky;
 // inner_count: skirt vertices on its inner edge; grid_v: V, cells per patch side.
@@ -130,12 +140,12 @@ vec4 ocean_vertex(uint eye) {
     // fade depends only on the undisplaced lattice point, which both patches sharing a vertex
     // agree on, so it never opens a crack.
     vec3 disp = vec3(0.0);
-    int cascades = int(g.params.x);
-    float half_texel = 0.5 / g.params.y;
-    for (int c = 0; c < cascades; ++c) {
+    int cascades = CASCADE_COUNT;
+    float half_texel = g.derived.z;
+    UNROLL for (int c = 0; c < cascades; ++c) {
         float fade = 1.0 - smoothstep(g.fade_start[c], g.fade_end[c], d);
         if (fade > 0.0) {
-            vec2 uv = p / g.patch_size[c] + half_texel;
+            vec2 uv = p * g.inv_patch_size[c] + half_texel;
             disp += fade * textureLod(u_displacement, vec3(uv, float(c)), 0.0).xyz;
         }
     }

@@ -7,10 +7,60 @@ pub const SHADERS: &[(&str, &str, &[&str])] = &[
     ("ocean.vert", "ocean_mv.vert", &["MULTIVIEW=1"]),
     ("ocean.vert", "ocean.vert", &[]),
     ("ocean.frag", "ocean.frag", &[]),
+    // With a fragment density map (fixed foveation): no supersampling in the periphery.
+    ("ocean.frag", "ocean_fdm.frag", &["FRAGMENT_DENSITY=1"]),
+    // The ocean's fragment shader tallying the paths its pixels take (`vr-ocean gpu-budget`).
+    ("ocean.frag", "ocean_count.frag", &["COUNT_PATHS=1"]),
     ("solid.vert", "solid_mv.vert", &["MULTIVIEW=1"]),
     ("solid.vert", "solid.vert", &[]),
     ("solid.frag", "solid.frag", &[]),
 ];
+
+/// The cost variants of `vr-ocean gpu-budget` (`render::budget`): the ocean's fragment shader
+/// with each path's choices fixed (`COST_PATH`, see `shaders/ocean.frag`), 3 cascades, and the
+/// vertex shader; each is optimized with `spirv-opt -O` (inlined, unrolled, folded), so that
+/// its one function is that path's work per invocation, counted instruction by instruction.
+pub const COST_SHADERS: &[(&str, &str, &[&str])] = &[
+    (
+        "ocean.frag",
+        "cost_sky.frag",
+        &["COST_PATH=1", "COST_CASCADES=3", "COST_RESAMPLED=0"],
+    ),
+    (
+        "ocean.frag",
+        "cost_single.frag",
+        &["COST_PATH=2", "COST_CASCADES=3", "COST_RESAMPLED=0"],
+    ),
+    (
+        "ocean.frag",
+        "cost_super0.frag",
+        &["COST_PATH=3", "COST_CASCADES=3", "COST_RESAMPLED=0"],
+    ),
+    (
+        "ocean.frag",
+        "cost_super1.frag",
+        &["COST_PATH=3", "COST_CASCADES=3", "COST_RESAMPLED=1"],
+    ),
+    (
+        "ocean.frag",
+        "cost_foam.frag",
+        &["COST_PATH=4", "COST_CASCADES=3", "COST_RESAMPLED=0"],
+    ),
+    (
+        "ocean.frag",
+        "cost_plain.frag",
+        &["COST_PATH=5", "COST_CASCADES=3", "COST_RESAMPLED=0"],
+    ),
+    ("ocean.vert", "cost_ocean.vert", &["MULTIVIEW=1", "COST_CASCADES=3"]),
+];
+
+/// The `spirv-opt` arguments that optimize `input` into `output` for [`COST_SHADERS`].
+pub fn optimizer_args(
+    input: &std::path::Path,
+    output: &std::path::Path,
+) -> Vec<std::ffi::OsString> {
+    vec!["-O".into(), input.into(), "-o".into(), output.into()]
+}
 
 /// The file in `shaders/spirv/` that records the fingerprint of the sources it was made from.
 pub const SOURCES_FINGERPRINT_FILE: &str = "sources.fnv64";
@@ -37,13 +87,17 @@ pub fn sources_fingerprint(dir: &std::path::Path) -> std::io::Result<String> {
         h = h.wrapping_mul(0x0000_0100_0000_01b3);
     };
     for f in &files {
-        eat(f.file_name().and_then(|n| n.to_str()).unwrap_or("").as_bytes());
+        eat(f
+            .file_name()
+            .and_then(|n| n.to_str())
+            .unwrap_or("")
+            .as_bytes());
         // Line endings do not matter (a checkout may convert them).
         let text = std::fs::read(f)?;
         let text: Vec<u8> = text.into_iter().filter(|&b| b != b'\r').collect();
         eat(&text);
     }
-    for (src, stem, defines) in SHADERS {
+    for (src, stem, defines) in SHADERS.iter().chain(COST_SHADERS) {
         eat(src.as_bytes());
         eat(stem.as_bytes());
         for d in *defines {

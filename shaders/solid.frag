@@ -55,7 +55,7 @@ void main() {
            + SEA_ALBEDO * e_h * (0.5 - 0.5 * n.y);
     e += HELD_GLOW * e_h * (deck ? 0.0 : v_colour.a);
     vec3 colour = albedo * e / PI;
-    float fog = 1.0 - exp(-dist / g.params.z);
+    float fog = 1.0 - exp(-dist * g.params.z);
     colour = mix(colour, fog_colour(-v), fog);
     o_colour = vec4(display(colour), 1.0);
 }

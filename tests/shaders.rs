@@ -55,7 +55,10 @@ fn committed_spirv_is_made_from_the_current_glsl() {
         now,
         "shaders/spirv/ is stale: run `cargo xtask shaders` and commit it"
     );
-    for (_, stem, _) in shader_table::SHADERS {
+    for (_, stem, _) in shader_table::SHADERS
+        .iter()
+        .chain(shader_table::COST_SHADERS)
+    {
         let path = src.join("spirv").join(format!("{stem}.spv"));
         let out = Command::new("spirv-val")
             .args(["--target-env", "vulkan1.1"])

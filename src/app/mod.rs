@@ -137,6 +137,9 @@ pub struct RunReport {
     pub device: String,
     /// The GPU-time governor's level changes, in order (empty when it is off).
     pub governor: Vec<GovernorChange>,
+    /// The shading paths and invocations counted per frame, when the renderer counted them
+    /// ([`RendererSettings::count_paths`]).
+    pub paths: Option<render::budget::PathCounts>,
 }
 
 /// What a caller of [`run`] hears about while frames go by.
@@ -418,6 +421,10 @@ impl<'a> Frames<'a> {
         let gpu = self.xr.gpu();
         gpu.wait_idle();
         let attachment_bytes = self.renderer.attachment_bytes();
+        let paths = self.renderer.path_counts(gpu).unwrap_or_else(|e| {
+            log::warn!("the pass's counts could not be read: {e}");
+            None
+        });
         self.renderer.destroy(gpu);
         if let Some(r) = self.readback.as_mut() {
             r.destroy(gpu);
@@ -431,6 +438,7 @@ impl<'a> Frames<'a> {
             validation_errors: 0,
             device: gpu.device_name.clone(),
             governor: self.governed.map_or(Vec::new(), |g| g.history),
+            paths,
         };
         (report, self.xr)
     }

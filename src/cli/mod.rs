@@ -1,14 +1,17 @@
 //! The `vr-ocean` command line: argument structs ([`args`] shared, one file per command
-//! family: [`view`] for window/headless/xr, [`tools`] for simulate/export/bench/lod-svg) and the
+//! family: [`view`] for window/headless/xr, [`tools`] for simulate/export/bench/lod-svg,
+//! [`budget`] for gpu-budget) and the
 //! run report ([`report`]: validation errors, `frame_times.json`).
 
 pub mod args;
+pub mod budget;
 pub mod report;
 pub mod tools;
 pub mod view;
 
 use clap::{Parser, Subcommand};
 
+use self::budget::GpuBudgetArgs;
 use self::tools::{BenchArgs, ExportArgs, LodSvgArgs, SimulateArgs};
 use self::view::{DefaultRun, HeadlessArgs, WindowArgs, XrArgs};
 
@@ -42,6 +45,10 @@ pub enum Command {
     /// Run in a headset through the active OpenXR runtime (Monado, SteamVR, WiVRn): left stick
     /// glides, right stick snap-turns, A (or menu) cycles the preset, triggers change the wind.
     Xr(XrArgs),
+    /// Estimate the ocean pass's GPU time on Quest 2 and Quest 3 at their default settings: the
+    /// standard views rendered with the counting pass, shader paths and instructions counted,
+    /// combined with the GPUs' published throughput (a model, not a headset measurement).
+    GpuBudget(GpuBudgetArgs),
     /// Draw one frame of the quadtree LOD (patches by level, stitched edges, both eye frusta) as SVG.
     LodSvg(LodSvgArgs),
 }
@@ -57,5 +64,6 @@ pub fn run(cli: Cli) -> CmdResult {
         Some(Command::LodSvg(a)) => tools::lod_svg_cmd(a),
         Some(Command::Headless(a)) => view::headless_cmd(a),
         Some(Command::Xr(a)) => view::xr_cmd(a),
+        Some(Command::GpuBudget(a)) => budget::gpu_budget_cmd(a),
     }
 }

@@ -106,7 +106,7 @@ impl OceanLod {
     pub fn update(&mut self, input: &FrameInput<'_>) -> Result<FrameStats, ParamError> {
         if let Err(e) = frustum::validate_viewer(input.viewer) {
             self.tree = Quadtree::new(self.settings);
-            self.batches.build(std::iter::empty());
+            self.batches.build(std::iter::empty(), [0.0, 0.0]);
             self.stats = FrameStats::default();
             return Err(e);
         }
@@ -139,7 +139,8 @@ impl OceanLod {
             .zip(self.visible.iter())
             .filter(|(_, &v)| v)
             .map(|(l, _)| patch_instance(&st, centre, l));
-        self.batches.build(patches);
+        self.batches
+            .build(patches, [input.viewer.x, input.viewer.z]);
 
         let v = st.vertices();
         let triangles = self

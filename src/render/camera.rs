@@ -49,7 +49,7 @@ pub struct Globals {
     pub fade_start: [f32; 4],
     /// Distance where it is gone (m).
     pub fade_end: [f32; 4],
-    /// Cascade count, grid N, fog distance (m), sky marker flag.
+    /// Cascade count, grid N, 1 / fog distance (1/m), sky marker flag.
     pub params: [f32; 4],
     /// Specular anti-aliasing: slope variance of the unresolved waves, on (1) or off (0), the
     /// Toksvig variance of level-0 normals (the material's, not filtering), and the GGX α² of
@@ -66,6 +66,13 @@ pub struct Globals {
     /// The sky dome's illuminance on a horizontal surface (rgb, klux) and the environment map's
     /// level count (w).
     pub sky_illuminance: [f32; 4],
+    /// 1 / patch size of cascades 0..3 (1/m): the shaders multiply where they would divide.
+    pub inv_patch_size: [f32; 4],
+    /// log2 of each cascade's patch over the finest's: its mip level below the finest's.
+    pub lod_offset: [f32; 4],
+    /// 1 / each whitecap level's side (x, y; 1/m), half a cascade texel (z: 0.5 / N), and
+    /// 1 / the crest height light shines through (w; 1/m).
+    pub derived: [f32; 4],
 }
 
 impl Globals {

@@ -171,6 +171,9 @@ pub struct GpuContext {
     /// Whether `VK_EXT_fragment_density_map` is enabled (asked for, and the device has it with
     /// `fragmentDensityMapNonSubsampledImages`, so no attachment needs subsampling).
     pub fragment_density_map: bool,
+    /// Whether `fragmentStoresAndAtomics` and `pipelineStatisticsQuery` are enabled (the device
+    /// has both): the GPU budget's counting pass (`render::budget`) needs them.
+    pub probes: bool,
     /// Memory types of the device.
     pub memory: vk::PhysicalDeviceMemoryProperties,
     /// Device name, for logs and reports.
@@ -308,6 +311,8 @@ impl GpuContext {
         let mut f2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut mv);
         // SAFETY: `physical` belongs to `instance`; the chain lives on this stack frame.
         unsafe { instance.get_physical_device_features2(physical, &mut f2) };
+        let probes = f2.features.fragment_stores_and_atomics == vk::TRUE
+            && f2.features.pipeline_statistics_query == vk::TRUE;
         let multiview = mv.multiview == vk::TRUE;
         // SAFETY: `physical` belongs to `instance`.
         let families = unsafe { instance.get_physical_device_queue_family_properties(physical) };
@@ -334,9 +339,13 @@ impl GpuContext {
         let mut enable_fdm = vk::PhysicalDeviceFragmentDensityMapFeaturesEXT::default()
             .fragment_density_map(true)
             .fragment_density_map_non_subsampled_images(true);
+        let features = vk::PhysicalDeviceFeatures::default()
+            .fragment_stores_and_atomics(probes)
+            .pipeline_statistics_query(probes);
         let mut dinfo = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queues)
             .enabled_extension_names(&dev_ext)
+            .enabled_features(&features)
             .push_next(&mut enable_mv);
         if fragment_density_map {
             dinfo = dinfo.push_next(&mut enable_fdm);
@@ -364,6 +373,7 @@ impl GpuContext {
             timestamp_period,
             sample_counts,
             fragment_density_map,
+            probes,
             memory,
             device_name,
             cpu_device: props.device_type == vk::PhysicalDeviceType::CPU,

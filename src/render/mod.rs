@@ -4,6 +4,8 @@
 //! backend in `xr` owns the target images and hands them in.
 //!
 //! - [`context`]: instance, device, queue, validation-error counting.
+//! - [`budget`]: the GPU cost model of `vr-ocean gpu-budget` (counted paths × counted
+//!   instructions × published Quest GPU throughput).
 //! - [`commands`]: command pools, buffers and fences.
 //! - [`memory`]: buffers and images with their own memory.
 //! - [`barrier`]: pipeline barriers written as named access states (`from` → `to`).
@@ -18,6 +20,7 @@
 //! - [`shaders`]: SPIR-V compiled from `shaders/` by `build.rs`.
 
 pub mod barrier;
+pub mod budget;
 pub mod camera;
 pub mod commands;
 pub mod context;

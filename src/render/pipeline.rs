@@ -37,7 +37,8 @@ pub struct Pipelines {
     /// swapchain image must be in when released).
     pub render_pass: vk::RenderPass,
     /// Set 0: globals (binding 0), displacement (1), normal/foam (2), whitecaps (3), sky (4),
-    /// foam pattern (5).
+    /// foam pattern (5), and the path tally (6: a storage buffer only the counting variant of
+    /// the fragment shader uses; unwritten otherwise).
     pub set_layout: vk::DescriptorSetLayout,
     /// The layout all pipelines share.
     pub layout: vk::PipelineLayout,
@@ -45,11 +46,14 @@ pub struct Pipelines {
     pub ocean: vk::Pipeline,
     /// The solids' pipeline: instanced unit meshes (bodies, deck), back faces culled.
     pub solids: vk::Pipeline,
+    /// The ocean's fragment shader is the counting variant (`vr-ocean gpu-budget`).
+    pub counting: bool,
 }
 
 impl Pipelines {
-    /// Builds everything for `pass`.
-    pub fn new(ctx: &GpuContext, pass: PassLayout) -> Result<Self, RenderError> {
+    /// Builds everything for `pass`; with `counting`, the ocean's fragment shader tallies its
+    /// paths into binding 6 (needs [`GpuContext::probes`]).
+    pub fn new(ctx: &GpuContext, pass: PassLayout, counting: bool) -> Result<Self, RenderError> {
         let mode = pass.mode;
         if mode == StereoMode::Multiview && !ctx.multiview {
             return Err(RenderError::Unsupported("the multiview feature".into()));
@@ -64,6 +68,13 @@ impl Pipelines {
         if pass.density_map && !ctx.fragment_density_map {
             return Err(RenderError::Unsupported(
                 "VK_EXT_fragment_density_map with non-subsampled images (fixed foveation)".into(),
+            ));
+        }
+        if counting && !ctx.probes {
+            return Err(RenderError::Unsupported(
+                "fragmentStoresAndAtomics and pipelineStatisticsQuery (the GPU budget's counting \
+                 pass)"
+                    .into(),
             ));
         }
         if pass.store_depth && pass.msaa.resolves() {
@@ -81,6 +92,7 @@ impl Pipelines {
             layout: vk::PipelineLayout::null(),
             ocean: vk::Pipeline::null(),
             solids: vk::Pipeline::null(),
+            counting,
         };
         if let Err(e) = this.create(ctx) {
             this.destroy(ctx);
@@ -128,6 +140,12 @@ impl Pipelines {
                 .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
                 .descriptor_count(1)
                 .stage_flags(vk::ShaderStageFlags::FRAGMENT),
+            // The path tally of the counting variant (`ocean::probe`).
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(6)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::FRAGMENT),
         ];
         let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
         // SAFETY: a valid create info on a live device.
@@ -153,7 +171,14 @@ impl Pipelines {
             render_pass: self.render_pass,
             msaa: self.layout_of_pass.msaa,
         };
-        self.ocean = build(ctx, &ocean_program(multiview), target)?;
+        let frag = if self.counting {
+            shaders::OCEAN_FRAG_COUNT
+        } else if self.layout_of_pass.density_map {
+            shaders::OCEAN_FRAG_FDM
+        } else {
+            shaders::OCEAN_FRAG
+        };
+        self.ocean = build(ctx, &ocean_program(multiview, frag), target)?;
         self.solids = build(ctx, &solid_program(multiview), target)?;
         Ok(())
     }
@@ -221,7 +246,8 @@ fn attr(
 
 /// The ocean: lattice positions (binding 0) and `PatchInstance`s (binding 1). Not back-face
 /// culled: folded crests show triangles from behind, and culling them would open holes.
-fn ocean_program(multiview: bool) -> Program {
+/// `frag`: the fragment shader variant (plain, foveated, counting).
+fn ocean_program(multiview: bool, frag: &'static [u32]) -> Program {
     let f = vk::Format::R32_SFLOAT;
     let f2 = vk::Format::R32G32_SFLOAT;
     let u = vk::Format::R32_UINT;
@@ -241,7 +267,7 @@ fn ocean_program(multiview: bool) -> Program {
         } else {
             shaders::OCEAN_VERT
         },
-        frag: shaders::OCEAN_FRAG,
+        frag,
         bindings: vertex_and_instance(12, std::mem::size_of::<PatchInstance>()),
         attributes,
         cull: vk::CullModeFlags::NONE,

@@ -23,6 +23,12 @@ pub const OCEAN_VERT_MULTIVIEW: &[u32] = spirv!("ocean_mv.vert");
 pub const OCEAN_VERT: &[u32] = spirv!("ocean.vert");
 /// Ocean fragment shader.
 pub const OCEAN_FRAG: &[u32] = spirv!("ocean.frag");
+/// Ocean fragment shader for a pass with a fragment density map (fixed foveation): peripheral
+/// fragments, which cover several pixels, never take the supersampled path.
+pub const OCEAN_FRAG_FDM: &[u32] = spirv!("ocean_fdm.frag");
+/// Ocean fragment shader tallying its pixels' paths into a storage buffer (binding 6): the
+/// counting variant of `vr-ocean gpu-budget`.
+pub const OCEAN_FRAG_COUNT: &[u32] = spirv!("ocean_count.frag");
 
 /// Solids (bodies, deck) vertex shader, eye from `gl_ViewIndex`.
 pub const SOLID_VERT_MULTIVIEW: &[u32] = spirv!("solid_mv.vert");
@@ -31,11 +37,39 @@ pub const SOLID_VERT: &[u32] = spirv!("solid.vert");
 /// Solids fragment shader.
 pub const SOLID_FRAG: &[u32] = spirv!("solid.frag");
 
+/// The optimized cost variants (`shaders/shader_table.rs` `COST_SHADERS`), never run: their
+/// instructions are counted by [`crate::render::budget`].
+pub mod cost {
+    /// The sky.
+    pub const SKY: &[u32] = spirv!("cost_sky.frag");
+    /// Water shaded once (specular anti-aliasing's single path).
+    pub const SINGLE: &[u32] = spirv!("cost_single.frag");
+    /// Water with its highlight supersampled, no cascade sampled again.
+    pub const SUPERSAMPLED: &[u32] = spirv!("cost_super0.frag");
+    /// Water with its highlight supersampled, the finest cascade sampled again.
+    pub const SUPERSAMPLED_RESAMPLE: &[u32] = spirv!("cost_super1.frag");
+    /// Water shaded once, with foam.
+    pub const FOAM: &[u32] = spirv!("cost_foam.frag");
+    /// Water without anti-aliasing.
+    pub const PLAIN: &[u32] = spirv!("cost_plain.frag");
+    /// The ocean's vertex shader (multiview).
+    pub const VERTEX: &[u32] = spirv!("cost_ocean.vert");
+}
+
 /// Every module with its name, for validation with `spirv-val`.
-pub const ALL: [(&str, &[u32]); 6] = [
+pub const ALL: [(&str, &[u32]); 15] = [
     ("ocean_mv.vert", OCEAN_VERT_MULTIVIEW),
     ("ocean.vert", OCEAN_VERT),
     ("ocean.frag", OCEAN_FRAG),
+    ("ocean_fdm.frag", OCEAN_FRAG_FDM),
+    ("ocean_count.frag", OCEAN_FRAG_COUNT),
+    ("cost_sky.frag", cost::SKY),
+    ("cost_single.frag", cost::SINGLE),
+    ("cost_super0.frag", cost::SUPERSAMPLED),
+    ("cost_super1.frag", cost::SUPERSAMPLED_RESAMPLE),
+    ("cost_foam.frag", cost::FOAM),
+    ("cost_plain.frag", cost::PLAIN),
+    ("cost_ocean.vert", cost::VERTEX),
     ("solid_mv.vert", SOLID_VERT_MULTIVIEW),
     ("solid.vert", SOLID_VERT),
     ("solid.frag", SOLID_FRAG),

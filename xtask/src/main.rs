@@ -76,8 +76,8 @@ const APT_PACKAGES: &[&str] = &[
 /// (`shaders/spirv/`).
 const RUN_APT_PACKAGES: &[&str] = &["libvulkan1", "mesa-vulkan-drivers", "libxkbcommon-x11-0"];
 
-/// What `cargo xtask shaders` needs: glslang's compiler.
-const SHADER_APT_PACKAGES: &[&str] = &["glslang-tools"];
+/// What `cargo xtask shaders` needs: glslang's compiler, and spirv-opt for the cost variants.
+const SHADER_APT_PACKAGES: &[&str] = &["glslang-tools", "spirv-tools"];
 
 /// Extra packages for `cargo xtask bench` (the `fftw` feature links libfftw3f).
 const BENCH_APT_PACKAGES: &[&str] = &["libfftw3-dev"];
@@ -520,6 +520,27 @@ fn cmd_shaders() -> Result<()> {
             text.lines().last().unwrap_or("ok").trim()
         ));
     }
+    // The cost variants of `vr-ocean gpu-budget`: compiled, then optimized (spirv-opt).
+    let scratch = std::env::temp_dir().join(format!("vr-ocean-shaders-{}", std::process::id()));
+    std::fs::create_dir_all(&scratch)
+        .map_err(|e| Failure::Msg(format!("cannot create {}: {e}", scratch.display())))?;
+    for (file, stem, defines) in shader_table::COST_SHADERS {
+        let raw = scratch.join(format!("{stem}.spv"));
+        let out = dir.join(format!("{stem}.spv"));
+        let mut cmd = Command::new(&tool);
+        cmd.args(shader_table::glslang_args(
+            &src.join(file),
+            &raw,
+            &src,
+            defines,
+        ));
+        capture(&mut cmd)?;
+        let mut opt = Command::new("spirv-opt");
+        opt.args(shader_table::optimizer_args(&raw, &out));
+        capture(&mut opt)?;
+        say(&format!("{stem}.spv: optimized"));
+    }
+    let _ = std::fs::remove_dir_all(&scratch);
     let fingerprint = shader_table::sources_fingerprint(&src)
         .map_err(|e| Failure::Msg(format!("cannot read {}: {e}", src.display())))?;
     let file = dir.join(shader_table::SOURCES_FINGERPRINT_FILE);
@@ -528,7 +549,7 @@ fn cmd_shaders() -> Result<()> {
     say(&format!(
         "wrote {} ({} modules, sources {fingerprint})",
         dir.display(),
-        shader_table::SHADERS.len()
+        shader_table::SHADERS.len() + shader_table::COST_SHADERS.len()
     ));
     Ok(())
 }

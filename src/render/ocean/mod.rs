@@ -11,7 +11,9 @@
 //! - `mesh`: the patch, skirt and sky meshes, uploaded once;
 //! - `targets`: views and framebuffers of the target images;
 //! - `pass`: the uniforms, cascade fades and the pass's recording;
-//! - `solids`: the floating bodies' and the deck's meshes and instances.
+//! - `solids`: the floating bodies' and the deck's meshes and instances;
+//! - `probe`: the counting variant's tally and pipeline statistics (`vr-ocean gpu-budget`);
+//! - `parts`: the settings' checks and the parts made in order, all or nothing.
 //!
 //! Invariants:
 //! - A slot is reused only after its fence signals, so the CPU never writes memory the GPU
@@ -24,7 +26,9 @@
 
 mod foam_pattern;
 mod mesh;
+mod parts;
 mod pass;
+mod probe;
 mod sky_map;
 mod slots;
 pub mod solids;
@@ -39,14 +43,17 @@ use glam::Vec3;
 
 use self::foam_pattern::FoamPattern;
 use self::mesh::MeshBuffers;
+use self::parts::{make_parts, validate, Parts};
 use self::pass::{PassConstants, PassRecorder, ResolveAfter};
+use self::probe::PathProbe;
 use self::sky_map::SkyMap;
-use self::slots::{SlotSizes, Slots, TIMESTAMP_QUERIES};
+use self::slots::{Slots, TIMESTAMP_QUERIES};
 use self::targets::Targets;
 use self::textures::CascadeTextures;
+use super::budget::PathCounts;
 use super::context::GpuContext;
 use super::error::RenderError;
-use super::pipeline::{Msaa, PassLayout, Pipelines, StereoMode};
+use super::pipeline::{Msaa, Pipelines, StereoMode};
 use super::sky::SunSky;
 use crate::base::EyeView;
 use crate::lod::OceanLod;
@@ -84,6 +91,10 @@ pub struct RendererSettings {
     /// [`TONEMAP_RAMP_TOP`] through the tone curve (tests: the curve and the sRGB store read
     /// back as [`crate::render::tonemap`] says).
     pub tonemap_ramp: bool,
+    /// Count the shading paths the pixels take and the pass's invocations
+    /// ([`OceanRenderer::path_counts`]; `vr-ocean gpu-budget`): the counting variant of the
+    /// fragment shader, which shades the same but writes a tally. Never in a user's run.
+    pub count_paths: bool,
 }
 
 /// The exposed value at the right edge of the tone-map test ramp: past the curve's knee.
@@ -101,6 +112,7 @@ impl Default for RendererSettings {
             fog_distance: 4000.0,
             sky_marker: false,
             tonemap_ramp: false,
+            count_paths: false,
         }
     }
 }
@@ -167,45 +179,6 @@ pub struct FrameReport {
     pub draws: u32,
 }
 
-/// The parts of a renderer, made one after the other; whatever exists is destroyed when a
-/// later step fails.
-#[derive(Default)]
-struct Parts {
-    pipelines: Option<Pipelines>,
-    textures: Option<CascadeTextures>,
-    mesh: Option<MeshBuffers>,
-    targets: Option<Targets>,
-    sky: Option<SkyMap>,
-    foam: Option<FoamPattern>,
-    slots: Option<Slots>,
-}
-
-impl Parts {
-    fn destroy(&mut self, ctx: &GpuContext) {
-        if let Some(mut s) = self.slots.take() {
-            s.destroy(ctx);
-        }
-        if let Some(mut t) = self.targets.take() {
-            t.destroy(ctx);
-        }
-        if let Some(mut f) = self.foam.take() {
-            f.destroy(ctx);
-        }
-        if let Some(mut s) = self.sky.take() {
-            s.destroy(ctx);
-        }
-        if let Some(mut m) = self.mesh.take() {
-            m.destroy(ctx);
-        }
-        if let Some(mut t) = self.textures.take() {
-            t.destroy(ctx);
-        }
-        if let Some(mut p) = self.pipelines.take() {
-            p.destroy(ctx);
-        }
-    }
-}
-
 /// Draws the ocean and the sky for both eyes.
 pub struct OceanRenderer {
     settings: RendererSettings,
@@ -215,6 +188,7 @@ pub struct OceanRenderer {
     targets: Targets,
     sky: SkyMap,
     foam: FoamPattern,
+    probe: Option<PathProbe>,
     slots: Slots,
     pass: PassConstants,
     extent: vk::Extent2D,
@@ -250,6 +224,7 @@ impl OceanRenderer {
             targets: Some(out_targets),
             sky: Some(sky),
             foam: Some(foam),
+            probe,
             slots: Some(slots),
         } = parts
         else {
@@ -263,6 +238,7 @@ impl OceanRenderer {
             targets: out_targets,
             sky,
             foam,
+            probe,
             slots,
             pass: PassConstants::new(config, lod.settings()),
             extent: targets.extent,
@@ -306,6 +282,9 @@ impl OceanRenderer {
         let t0 = Instant::now();
         let slot = &mut self.slots.ring[index];
         slot.wait(ctx)?;
+        if let Some(p) = self.probe.as_mut() {
+            p.collect(ctx, index)?;
+        }
         let mut wait = t0.elapsed();
         let t1 = Instant::now();
         // The slot's fence has signalled, so its timestamps are ready (on a CPU device they
@@ -365,9 +344,15 @@ impl OceanRenderer {
             StereoMode::TwoPass => &[0, 1],
         };
         let mut draws = 0;
+        if let Some(p) = self.probe.as_mut() {
+            p.begin(d, cmd, index);
+        }
         for &eye in passes {
             let fb = self.targets.framebuffer(input.image, input.depth, eye);
             draws += recorder.record(fb, eye, input.lod, skirt_instance, &solid_draws);
+        }
+        if let Some(p) = self.probe.as_ref() {
+            p.end(d, cmd, index);
         }
         // SAFETY: `cmd` is recording, outside a render pass.
         unsafe {
@@ -459,6 +444,13 @@ impl OceanRenderer {
         Ok(())
     }
 
+    /// The shading paths and invocations counted per frame so far, when the renderer counts
+    /// ([`RendererSettings::count_paths`]); waits for every frame in flight first.
+    pub fn path_counts(&mut self, ctx: &GpuContext) -> Result<Option<PathCounts>, RenderError> {
+        self.wait_all(ctx)?;
+        self.probe.as_mut().map(|p| p.counts(ctx)).transpose()
+    }
+
     /// Waits for every frame in flight (shutdown and read-back only).
     pub fn wait_all(&self, ctx: &GpuContext) -> Result<(), RenderError> {
         let ring = &self.slots.ring;
@@ -474,6 +466,9 @@ impl OceanRenderer {
 
     /// Frees everything. The caller makes sure the GPU is idle (e.g. [`GpuContext::wait_idle`]).
     pub fn destroy(&mut self, ctx: &GpuContext) {
+        if let Some(p) = self.probe.as_mut() {
+            p.destroy(ctx);
+        }
         self.slots.destroy(ctx);
         self.targets.destroy(ctx);
         self.foam.destroy(ctx);
@@ -482,72 +477,4 @@ impl OceanRenderer {
         self.textures.destroy(ctx);
         self.pipelines.destroy(ctx);
     }
-}
-
-/// Checks the settings and targets before anything is created.
-fn validate(
-    config: &OceanConfig,
-    targets: TargetImages<'_>,
-    settings: &RendererSettings,
-) -> Result<(), RenderError> {
-    if settings.frames_in_flight < 2 || settings.frames_in_flight > 4 {
-        return Err(RenderError::Invalid(format!(
-            "frames in flight: {} is outside [2, 4]",
-            settings.frames_in_flight
-        )));
-    }
-    if config.patch_sizes.len() > MAX_CASCADES {
-        return Err(RenderError::Invalid(format!(
-            "{} cascades: the renderer draws at most {MAX_CASCADES}",
-            config.patch_sizes.len()
-        )));
-    }
-    if !targets.density_maps.is_empty() && targets.density_maps.len() != targets.images.len() {
-        return Err(RenderError::Invalid(format!(
-            "{} density maps for {} colour images: one each",
-            targets.density_maps.len(),
-            targets.images.len()
-        )));
-    }
-    if targets.extent.width == 0 || targets.extent.height == 0 {
-        return Err(RenderError::Invalid(format!(
-            "target size {}x{}: both sides must be at least 1 pixel",
-            targets.extent.width, targets.extent.height
-        )));
-    }
-    Ok(())
-}
-
-/// Makes the parts in order into `parts` (the caller destroys them if this fails).
-fn make_parts(
-    ctx: &GpuContext,
-    config: &OceanConfig,
-    lod: &OceanLod,
-    targets: TargetImages<'_>,
-    settings: &RendererSettings,
-    parts: &mut Parts,
-) -> Result<(), RenderError> {
-    let pass = PassLayout {
-        mode: settings.stereo,
-        colour_format: targets.format,
-        msaa: settings.msaa,
-        store_depth: !targets.depth.is_empty(),
-        density_map: !targets.density_maps.is_empty(),
-    };
-    let pipelines = parts.pipelines.insert(Pipelines::new(ctx, pass)?);
-    let textures = parts.textures.insert(CascadeTextures::new(ctx, config)?);
-    parts.mesh = Some(MeshBuffers::new(ctx, lod)?);
-    parts.targets = Some(Targets::new(ctx, pipelines, targets)?);
-    let map = lod.settings().map_width() as usize;
-    let sizes = SlotSizes {
-        staging: CascadeTextures::staging_size(config),
-        instances: map * map + 1,
-    };
-    let frames = settings.frames_in_flight;
-    let sky = parts.sky.insert(SkyMap::new(ctx, &settings.sun)?);
-    let [disp, norm, caps] = textures.descriptors();
-    let foam = parts.foam.insert(FoamPattern::new(ctx)?);
-    let images = [disp, norm, caps, sky.descriptor(), foam.descriptor()];
-    parts.slots = Some(Slots::new(ctx, pipelines, &images, sizes, frames)?);
-    Ok(())
 }

@@ -69,13 +69,23 @@ impl PassConstants {
             *p = c.patch;
         }
         let fade = cascade_fades(&self.lod, &patch_sizes[..self.cascades]);
+        let finest = patch_sizes[self.cascades.clamp(1, 4) - 1];
+        for ((inv, offset), &l) in g
+            .inv_patch_size
+            .iter_mut()
+            .zip(g.lod_offset.iter_mut())
+            .zip(&patch_sizes)
+        {
+            *inv = 1.0 / l;
+            *offset = (l / finest).log2();
+        }
         g.patch_size = patch_sizes;
         g.fade_start = fade[0];
         g.fade_end = fade[1];
         g.params = [
             self.cascades as f32,
             self.grid as f32,
-            settings.fog_distance,
+            1.0 / settings.fog_distance,
             if settings.sky_marker {
                 1.0
             } else if settings.tonemap_ramp {
@@ -92,7 +102,16 @@ impl PassConstants {
             (1.0 - len0) / len0,
             rough0.powi(4),
         ];
-        for (w, level) in g.whitecaps.iter_mut().zip(&input.surfaces.whitecaps.levels) {
+        // Light shines through a crest from half the significant wave height (at least 5 cm).
+        g.derived[2] = 0.5 / self.grid as f32;
+        g.derived[3] = 1.0 / (0.5 * input.surfaces.significant_height).max(0.05);
+        for (l, (w, level)) in g
+            .whitecaps
+            .iter_mut()
+            .zip(&input.surfaces.whitecaps.levels)
+            .enumerate()
+        {
+            g.derived[l] = 1.0 / (level.spacing * WHITECAP_TEXELS as f32);
             // The window holds lattice points origin..origin + T: its centre is half a texel
             // before origin + T/2.
             let half = WHITECAP_TEXELS as f32 / 2.0 - 0.5;

@@ -12,10 +12,12 @@ use crate::render::error::RenderError;
 use crate::render::memory::{Image, ImageDesc};
 use crate::render::sky::{self, EnvMap, Sky, SunSky, SUN_ANGULAR_RADIUS_DEG};
 
-/// Level 0 of the environment map: texels along the azimuth...
-pub const ENV_WIDTH: u32 = 128;
-/// ...and from the horizon to the zenith (square-root spaced, the horizon finest).
-pub const ENV_HEIGHT: u32 = 32;
+/// Level 0 of the environment map: texels along the azimuth (diamond-angle spaced: 2π/160 at
+/// the diagonals, π/160 at the axes, no coarser than the 2π/128 of the earlier atan2 map)...
+pub const ENV_WIDTH: u32 = 160;
+/// ...and from the horizon to the zenith (square-root spaced, the horizon finest; 64 keeps two
+/// rows in the roughest level).
+pub const ENV_HEIGHT: u32 = 64;
 /// Levels: roughness 0, 0.2, ..., 1.
 pub const ENV_LEVELS: u32 = 6;
 

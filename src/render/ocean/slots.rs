@@ -71,6 +71,7 @@ impl Slots {
         ctx: &GpuContext,
         pipelines: &Pipelines,
         images: &[vk::DescriptorImageInfo; 5],
+        tally: Option<vk::DescriptorBufferInfo>,
         sizes: SlotSizes,
         frames: usize,
     ) -> Result<Self, RenderError> {
@@ -78,7 +79,7 @@ impl Slots {
             descriptor_pool: vk::DescriptorPool::null(),
             ring: Vec::with_capacity(frames),
         };
-        if let Err(e) = this.create(ctx, pipelines, images, sizes, frames) {
+        if let Err(e) = this.create(ctx, pipelines, images, tally, sizes, frames) {
             this.destroy(ctx);
             return Err(e);
         }
@@ -90,10 +91,15 @@ impl Slots {
         ctx: &GpuContext,
         pipelines: &Pipelines,
         images: &[vk::DescriptorImageInfo; 5],
+        tally: Option<vk::DescriptorBufferInfo>,
         sizes: SlotSizes,
         frames: usize,
     ) -> Result<(), RenderError> {
         let pool_sizes = [
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::STORAGE_BUFFER,
+                descriptor_count: frames as u32,
+            },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::UNIFORM_BUFFER,
                 descriptor_count: frames as u32,
@@ -111,7 +117,7 @@ impl Slots {
             ctx.device.create_descriptor_pool(&info, None)
         })?;
         for _ in 0..frames {
-            let slot = Slot::new(ctx, pipelines, self.descriptor_pool, images, sizes)?;
+            let slot = Slot::new(ctx, pipelines, self.descriptor_pool, images, tally, sizes)?;
             self.ring.push(slot);
         }
         Ok(())
@@ -138,6 +144,7 @@ impl Slot {
         p: &Pipelines,
         descriptor_pool: vk::DescriptorPool,
         images: &[vk::DescriptorImageInfo; 5],
+        tally: Option<vk::DescriptorBufferInfo>,
         sizes: SlotSizes,
     ) -> Result<Self, RenderError> {
         let mut slot = Self {
@@ -153,7 +160,7 @@ impl Slot {
             submitted: false,
             uploaded: None,
         };
-        if let Err(e) = slot.create(ctx, p, descriptor_pool, images, sizes) {
+        if let Err(e) = slot.create(ctx, p, descriptor_pool, images, tally, sizes) {
             slot.destroy(ctx);
             return Err(e);
         }
@@ -166,6 +173,7 @@ impl Slot {
         p: &Pipelines,
         descriptor_pool: vk::DescriptorPool,
         images: &[vk::DescriptorImageInfo; 5],
+        tally: Option<vk::DescriptorBufferInfo>,
         sizes: SlotSizes,
     ) -> Result<(), RenderError> {
         let d = &ctx.device;
@@ -225,6 +233,12 @@ impl Slot {
         ];
         // SAFETY: the set is not in use; the buffer, views and samplers are alive.
         unsafe { d.update_descriptor_sets(&writes, &[]) };
+        if let Some(tally) = tally {
+            let info = [tally];
+            let write = [write(6, vk::DescriptorType::STORAGE_BUFFER).buffer_info(&info)];
+            // SAFETY: as above; the tally buffer is alive.
+            unsafe { d.update_descriptor_sets(&write, &[]) };
+        }
         let info = vk::QueryPoolCreateInfo::default()
             .query_type(vk::QueryType::TIMESTAMP)
             .query_count(TIMESTAMP_QUERIES);

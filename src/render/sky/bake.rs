@@ -1,30 +1,36 @@
-//! The sky's environment map: an equirectangular map of the upper hemisphere, level 0 the
-//! radiance and level m of M prefiltered for GGX roughness r = m / (M − 1) (α = r²), as in
-//! split-sum prefiltering (normal = view = reflection). The sun disc is left out (shade it
-//! analytically); its Preetham glow is in.
+//! The sky's environment map: a map of the upper hemisphere, level 0 the radiance and level m
+//! of M prefiltered for GGX roughness r = m / (M − 1) (α = r²), as in split-sum prefiltering
+//! (normal = view = reflection). The sun disc is left out (shade it analytically); its Preetham
+//! glow is in.
 //!
-//! Mapping (u right, v up the texture; rows stored horizon first):
+//! Mapping (u right, v up the texture; rows stored horizon first), chosen so that the shader
+//! finds a direction's texel without inverse trigonometry (issue 28: `atan2` + `asin` cost
+//! ~80 FP32 operations a lookup on a mobile GPU, 2-5 lookups a pixel):
 //!
 //! ```text
-//! u = azimuth / 2π,  azimuth = atan2(z, x) from +x toward +z, in [0, 1)
-//! v = sqrt(elevation / (π/2)),  elevation = asin(y) in [0, π/2]   (0 horizon, 1 zenith)
+//! u = diamond(x, z) / 4   the "diamond angle" of the horizontal direction, in [0, 1): it runs
+//!                         0, 1, 2, 3 at +x, +z, −x, −z and is z/(|x| + |z|) rotated per quadrant
+//!                         (monotonic in the azimuth; 1-2 columns per degree of azimuth vary 2x)
+//! v = sqrt(y)             y = sin(elevation) in [0, 1]   (0 horizon, 1 zenith)
 //! ```
 //!
 //! The square root gives the horizon, where the sky changes fastest, the finest rows. Texel
 //! (col, row) of a w × h level is centred at ((col + 0.5) / w, (row + 0.5) / h); row 0 is the
 //! lowest and texture coordinate t = v (Vulkan's first row is t = 0). Sizes follow Vulkan's mip
 //! chain, max(1, w >> m) × max(1, h >> m), so the levels upload as mips of one image; sample
-//! with u REPEAT, v CLAMP_TO_EDGE and an explicit level roughness · (M − 1). In GLSL:
+//! with u REPEAT, v CLAMP_TO_EDGE and an explicit level roughness · (M − 1). In GLSL
+//! (`shaders/common.glsl`, `sky_uv`):
 //!
 //! ```glsl
 //! // Unit direction (y up) -> env-map uv; below the horizon reads the horizon row.
-//! vec2 skyEnvUv(vec3 d) {
-//!     const float PI = 3.14159265;
-//!     float u = atan(d.z, d.x) * (0.5 / PI);      // (-0.5, 0.5]: REPEAT wraps it
-//!     float e = asin(clamp(d.y, 0.0, 1.0));       // elevation in [0, pi/2]
-//!     return vec2(u, sqrt(e * (2.0 / PI)));
+//! vec2 sky_uv(vec3 d) {
+//!     float s = abs(d.x) + abs(d.z);
+//!     float t = s > 0.0 ? d.z / s : 0.0;                   // in [-1, 1]
+//!     float q = d.x >= 0.0 ? (d.z >= 0.0 ? t : 4.0 + t)   // quadrants +x+z, +x-z
+//!                          : 2.0 - t;                      // quadrants -x±z
+//!     return vec2(q * 0.25, sqrt(clamp(d.y, 0.0, 1.0)));
 //! }
-//! // textureLod(skyEnv, skyEnvUv(reflect(-v, n)), roughness * float(SKY_LEVELS - 1))
+//! // textureLod(skyEnv, sky_uv(reflect(-v, n)), roughness * float(SKY_LEVELS - 1))
 //! ```
 //!
 //! The prefilter integrates the analytic sky (not level 0), so no level aliases: per texel
@@ -32,7 +38,7 @@
 //! GGX-distributed half vectors of a fixed Hammersley set (Karis 2013). Directions below the
 //! horizon read the horizon ([`Sky::radiance`]).
 
-use std::f32::consts::{FRAC_PI_2, TAU};
+use std::f32::consts::TAU;
 
 use glam::{Vec3, Vec4};
 use rayon::prelude::*;
@@ -92,21 +98,60 @@ impl EnvMap {
     }
 }
 
-/// Unit direction of env-map coordinates (u, v) (see the module doc):
-/// azimuth 2πu from +x toward +z, elevation (π/2)·v².
+/// The diamond angle of horizontal direction (`x`, `z`) (not both 0), in [0, 4): 0, 1, 2, 3
+/// toward +x, +z, −x, −z, continuous and increasing with the azimuth atan2(z, x) mod 2π.
+pub fn diamond(x: f32, z: f32) -> f32 {
+    let s = x.abs() + z.abs();
+    let t = if s > 0.0 { z / s } else { 0.0 };
+    let q = if x >= 0.0 {
+        if z >= 0.0 {
+            t
+        } else {
+            4.0 + t
+        }
+    } else {
+        2.0 - t
+    };
+    if q >= 4.0 {
+        0.0
+    } else {
+        q
+    }
+}
+
+/// The horizontal unit direction (x, z) of diamond angle `q` in [0, 4) (the inverse of
+/// [`diamond`]).
+fn from_diamond(q: f32) -> (f32, f32) {
+    let q = q.rem_euclid(4.0);
+    // Quadrant k's points are those of quadrant 0, (1 − f, f), turned k quarter turns.
+    let k = (q.floor() as u32).min(3);
+    let f = q - k as f32;
+    let (x, z) = (1.0 - f, f);
+    let (x, z) = match k {
+        0 => (x, z),
+        1 => (-z, x),
+        2 => (-x, -z),
+        _ => (z, -x),
+    };
+    let l = (x * x + z * z).sqrt();
+    (x / l, z / l)
+}
+
+/// Unit direction of env-map coordinates (u, v) (see the module doc): horizontal direction of
+/// diamond angle 4u, sin(elevation) = v².
 pub fn direction(u: f32, v: f32) -> Vec3 {
-    let (sa, ca) = (TAU * u).sin_cos();
-    let (se, ce) = (FRAC_PI_2 * v * v).sin_cos();
-    Vec3::new(ce * ca, se, ce * sa)
+    let (x, z) = from_diamond(4.0 * u);
+    let y = (v * v).clamp(0.0, 1.0);
+    let c = (1.0 - y * y).max(0.0).sqrt();
+    Vec3::new(c * x, y, c * z)
 }
 
 /// Env-map coordinates of `dir` (any length > 0), the inverse of [`direction`]: u in [0, 1),
 /// v in [0, 1]; below the horizon v = 0.
 pub fn uv(dir: Vec3) -> (f32, f32) {
     let d = dir.normalize_or(Vec3::Y);
-    let u = (d.z.atan2(d.x) / TAU).rem_euclid(1.0);
-    let e = d.y.clamp(0.0, 1.0).asin();
-    (if u >= 1.0 { 0.0 } else { u }, (e / FRAC_PI_2).sqrt())
+    let u = diamond(d.x, d.z) / 4.0;
+    (if u >= 1.0 { 0.0 } else { u }, d.y.clamp(0.0, 1.0).sqrt())
 }
 
 /// Bakes `sky` into a new map: a `width` × `height` level 0 and `levels` levels in all (see
@@ -158,12 +203,18 @@ fn roughness(level: usize, count: usize) -> f32 {
     }
 }
 
-/// Solid angle (sr) of a texel in row `row` of a `w` × `h` level:
-/// (2π / w) · (sin e₁ − sin e₀) between the row's edge elevations e = (π/2)·v².
+/// Solid angle (sr) of texel (`col`, `row`) of a `w` × `h` level: the azimuth the column
+/// spans times (sin e₁ − sin e₀) = v₁² − v₀² between the row's edges.
 #[cfg(test)]
-fn texel_solid_angle(row: u32, w: u32, h: u32) -> f32 {
-    let e = |r: u32| FRAC_PI_2 * (r as f32 / h as f32).powi(2);
-    TAU / w as f32 * (e(row + 1).sin() - e(row).sin())
+fn texel_solid_angle(col: u32, row: u32, w: u32, h: u32) -> f32 {
+    let azimuth = |c: u32| {
+        let (x, z) = from_diamond(4.0 * c as f32 / w as f32);
+        z.atan2(x).rem_euclid(TAU)
+    };
+    let (a0, a1) = (azimuth(col), azimuth(col + 1));
+    let span = if col + 1 == w { TAU - a0 } else { a1 - a0 };
+    let y = |r: u32| (r as f32 / h as f32).powi(2);
+    span * (y(row + 1) - y(row))
 }
 
 /// The GGX lobe's reflected directions in the tangent frame of n (z = n), with their weight
@@ -247,8 +298,8 @@ mod tests {
         let (w, h) = map.level_size(level);
         let (mut s, mut s2, mut total) = (0.0f64, 0.0f64, 0.0f64);
         for row in 0..h {
-            let omega = texel_solid_angle(row, w, h) as f64;
             for col in 0..w {
+                let omega = texel_solid_angle(col, row, w, h) as f64;
                 let y = LUMINANCE.dot(map.texel(level, col, row)) as f64;
                 s += y * omega;
                 s2 += y * y * omega;
@@ -281,8 +332,24 @@ mod tests {
         }
         assert_eq!(uv(Vec3::new(1.0, -0.5, 0.0)), (0.0, 0.0));
         assert_eq!(uv(Vec3::new(0.0, 2.0, 0.0)).1, 1.0);
-        let total: f32 = (0..32).map(|r| 128.0 * texel_solid_angle(r, 128, 32)).sum();
-        assert!((total - TAU).abs() < 1e-4, "{total}");
+        let total: f32 = (0..32)
+            .flat_map(|r| (0..128).map(move |c| texel_solid_angle(c, r, 128, 32)))
+            .sum();
+        assert!((total - TAU).abs() < 1e-3, "{total}");
+        // The diamond angle rises with the azimuth and matches it at the axes.
+        let mut last = -1.0;
+        for i in 0..720 {
+            let a = (i as f32 * 0.5).to_radians();
+            let q = diamond(a.cos(), a.sin());
+            assert!(q > last || i == 0, "azimuth {i}/2 deg: {q} after {last}");
+            last = q;
+        }
+        for (k, (x, z)) in [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)]
+            .iter()
+            .enumerate()
+        {
+            assert_eq!(diamond(*x, *z), k as f32);
+        }
     }
 
     #[test]
@@ -306,9 +373,9 @@ mod tests {
     fn prefilter_smooths_and_conserves_energy() {
         let s = sky(40.0, 75.0);
         let start = std::time::Instant::now();
-        let map = bake(&s, 128, 32, 6);
+        let map = bake(&s, 160, 64, 6);
         println!(
-            "bake 128x32x6, {PREFILTER_SAMPLES} samples: {:.1} ms",
+            "bake 160x64x6, {PREFILTER_SAMPLES} samples: {:.1} ms",
             start.elapsed().as_secs_f64() * 1e3
         );
         let (mean0, cv0) = stats(&map, 0);

@@ -1,0 +1,209 @@
+//! `vr-ocean gpu-budget`: renders the standard views at each modelled headset's eye size and
+//! default settings with the counting variant of the ocean pass, and prints what the GPU cost
+//! model ([`vr_ocean::render::budget`]) makes of the counts: per headset and view, invocations
+//! and work per pixel, the estimated GPU time and the frame budget. A model, not a headset
+//! measurement: the counts and instruction counts are measured, the throughput is published
+//! figures and stated assumptions (`docs/notes/gpu-cost-model.md`).
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use super::args::default_threads;
+use super::report::ValidationWatch;
+use super::CmdResult;
+use vr_ocean::android::options::run_options;
+use vr_ocean::app::{self, NoHooks};
+use vr_ocean::render::budget::{self, HeadsetModel, PathCosts, StandardView, ViewEstimate};
+use vr_ocean::render::{ContextOptions, Msaa, StereoMode, Validation};
+use vr_ocean::xr::desktop::{CameraPath, EyeSize, HeadlessXr};
+use vr_ocean::xr::openxr::quest::Headset;
+use vr_ocean::xr::FrameLoop;
+
+#[derive(Args)]
+pub struct GpuBudgetArgs {
+    /// Print a JSON array (one object per headset and view: headset, view, estimated_ms,
+    /// budget_ms, share, the counts, ...) instead of the table.
+    #[arg(long)]
+    pub json: bool,
+    /// Also write the JSON array to this file.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Only these views (comma-separated names: horizon, glitter, down, high).
+    #[arg(long, value_delimiter = ',')]
+    pub views: Vec<String>,
+    /// Scale of the eye size the counting renders at (1 = the headset's; smaller is faster and
+    /// scales the counts back up by the pixel ratio, for quick looks).
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1.0)]
+    pub scale: f32,
+    /// Turn the specular anti-aliasing off (to see what it costs).
+    #[arg(long)]
+    pub no_specular_aa: bool,
+    /// Count the cost variants in this folder (`cost_*.spv`, as `cargo xtask shaders` makes
+    /// them) instead of the built-in ones: to compare another version of the shaders on the
+    /// same counts.
+    #[arg(long)]
+    pub costs_from: Option<PathBuf>,
+    /// Require the Khronos validation layer and fail on any error.
+    #[arg(long)]
+    pub validation: bool,
+    /// Simulation threads.
+    #[arg(long, default_value_t = default_threads())]
+    pub threads: usize,
+}
+
+/// The headset a model stands for (its defaults in this app).
+fn headset_of(model: &HeadsetModel) -> Headset {
+    match model.name {
+        "Quest 2" => Headset::Quest2,
+        _ => Headset::Quest3,
+    }
+}
+
+pub fn gpu_budget_cmd(a: GpuBudgetArgs) -> CmdResult {
+    if !(a.scale.is_finite() && (0.05..=1.0).contains(&a.scale)) {
+        return Err(format!("--scale {}: must be in [0.05, 1]", a.scale).into());
+    }
+    let views: Vec<&StandardView> = if a.views.is_empty() {
+        budget::VIEWS.iter().collect()
+    } else {
+        a.views
+            .iter()
+            .map(|name| {
+                budget::VIEWS
+                    .iter()
+                    .find(|v| v.name == name)
+                    .ok_or_else(|| {
+                        format!("--views: no view {name:?} (horizon, glitter, down, high)")
+                    })
+            })
+            .collect::<Result<_, _>>()?
+    };
+    let costs = match &a.costs_from {
+        None => PathCosts::of_shaders()?,
+        Some(dir) => costs_from(dir)?,
+    };
+    let mut rows: Vec<ViewEstimate> = Vec::new();
+    for model in &budget::HEADSETS {
+        for view in &views {
+            let row = measure(&a, model, view, &costs)?;
+            if !a.json {
+                eprintln!(
+                    "{} / {}: {:.2} ms of {:.1}",
+                    row.headset, row.view, row.estimated_ms, row.budget_ms
+                );
+            }
+            rows.push(row);
+        }
+    }
+    let json = serde_json::to_string_pretty(&rows)?;
+    if let Some(out) = &a.out {
+        vr_ocean::export::write_bytes(out, json.as_bytes())?;
+    }
+    if a.json {
+        println!("{json}");
+    } else {
+        println!(
+            "GPU cost model (a model: invocation and instruction counts measured, throughput \
+             from published figures; docs/notes/gpu-cost-model.md)"
+        );
+        println!("per invocation: {costs:?}");
+        print!("{}", budget::table(&rows));
+    }
+    Ok(())
+}
+
+/// Reads and counts the cost variants in `dir`.
+fn costs_from(dir: &std::path::Path) -> Result<PathCosts, Box<dyn std::error::Error>> {
+    let mut words: Vec<Vec<u32>> = Vec::new();
+    for name in budget::COST_MODULES {
+        let file = dir.join(format!("{name}.spv"));
+        let bytes = std::fs::read(&file)
+            .map_err(|e| format!("--costs-from: cannot read {}: {e}", file.display()))?;
+        if bytes.len() % 4 != 0 {
+            return Err(format!("--costs-from: {} is not SPIR-V (length)", file.display()).into());
+        }
+        words.push(
+            bytes
+                .chunks_exact(4)
+                .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                .collect(),
+        );
+    }
+    let m: [&[u32]; 7] = std::array::from_fn(|i| words[i].as_slice());
+    PathCosts::of_modules(m).map_err(|e| format!("--costs-from {}: {e}", dir.display()).into())
+}
+
+/// Renders `view` at `model`'s eye size and default settings with the counting pass and
+/// estimates its cost.
+fn measure(
+    a: &GpuBudgetArgs,
+    model: &HeadsetModel,
+    view: &StandardView,
+    costs: &PathCosts,
+) -> Result<ViewEstimate, Box<dyn std::error::Error>> {
+    let defaults = headset_of(model).defaults();
+    let preset = defaults.preset;
+    if preset.name() != model.preset {
+        return Err(format!(
+            "the cost model's {} preset ({}) is not the app's default ({})",
+            model.name,
+            model.preset,
+            preset.name()
+        )
+        .into());
+    }
+    let mut opts = run_options(&defaults, preset, &[], Some(a.threads))?;
+    opts.threads = a.threads.max(1);
+    opts.floating = None;
+    opts.warmup = 1;
+    opts.renderer.count_paths = true;
+    opts.renderer.specular_aa = !a.no_specular_aa;
+    opts.renderer.msaa = Msaa::from_samples(model.msaa)
+        .ok_or_else(|| format!("{}: {} MSAA samples", model.name, model.msaa))?;
+    let width = ((model.eye.0 as f32 * a.scale).round() as u32).max(16);
+    let height = ((model.eye.1 as f32 * a.scale).round() as u32).max(16);
+    let size = EyeSize::new(width, height)?;
+    let path = CameraPath::still(glam::Vec3::new(0.0, view.height, 0.0), view.yaw, view.pitch);
+    let ctx = ContextOptions {
+        validation: if a.validation {
+            Validation::Required
+        } else {
+            Validation::Off
+        },
+        ..ContextOptions::default()
+    };
+    let frames = 2;
+    let mut xr = HeadlessXr::new(&ctx, size, path, frames)?;
+    // Mesa's lavapipe draws the second view's clipped triangles into the first view with
+    // multiview; two passes count the same fragments.
+    if xr.gpu().cpu_device {
+        opts.renderer.stereo = StereoMode::TwoPass;
+    }
+    let validation = ValidationWatch::of(xr.gpu());
+    let report = app::run(&mut xr, &opts, &mut NoHooks)?;
+    drop(xr);
+    validation.check()?;
+    let mut counts = report
+        .paths
+        .ok_or("the renderer returned no counts (the device lacks pipeline statistics)")?;
+    // Counted at a smaller size: scale back to the headset's pixels.
+    let ratio = (model.eye.0 as f64 * model.eye.1 as f64) / (width as f64 * height as f64);
+    if ratio != 1.0 {
+        for c in [
+            &mut counts.sky,
+            &mut counts.single,
+            &mut counts.supersampled,
+            &mut counts.resamples,
+            &mut counts.foam,
+            &mut counts.plain,
+            &mut counts.fragment_invocations,
+        ] {
+            *c = (*c as f64 * ratio).round() as u64;
+        }
+    }
+    let mut row = budget::estimate(model, view, costs, &counts);
+    let gpu = report.times.percentiles(app::Timing::GpuPass);
+    row.measured_gpu_ms = (gpu.samples > 0).then_some(gpu.p50);
+    Ok(row)
+}

@@ -1,0 +1,429 @@
+//! The GPU cost model behind `vr-ocean gpu-budget`: what the ocean pass would cost a Quest's
+//! GPU, without a headset.
+//!
+//! Measured here: how many fragment-shader invocations each shading path took in a frame of
+//! a standard view at the headset's eye size and settings ([`PathCounts`], from the counting
+//! variant of the ocean's fragment shader and Vulkan pipeline-statistics queries, on any
+//! Vulkan device, lavapipe included), and what one invocation of each path costs in scalar
+//! ALU operations, special-function operations and texture samples ([`spirv`], counted in the
+//! optimized SPIR-V of the cost variants). Modelled: the GPUs' throughput from published
+//! figures ([`GpuFigures`]), the share of shading fixed foveation saves, and a stated
+//! utilization. Every constant and its source: `docs/notes/gpu-cost-model.md`.
+//!
+//! The estimate is a model (good to perhaps ±50 %), not a measurement; on the headset the GPU
+//! governor (`xr::gpu_governor`) steps quality down from the pass's real timestamps when it is
+//! wrong.
+
+pub mod spirv;
+
+use self::spirv::InstructionCounts;
+use crate::render::shaders::cost;
+
+/// A special-function operation (reciprocal, square root, exp2, log2, sin, cos) takes this many
+/// ALU issue slots: Adreno's special-function unit runs at a quarter of the FP32 rate
+/// (assumption; the usual ratio of mobile GPUs).
+pub const SPECIAL_COST: f64 = 4.0;
+
+/// Share of the shader core's peak that a fragment-bound pass achieves (latency, register
+/// pressure, partial quads the helper lanes fill): an assumption, stated, not measured.
+pub const UTILIZATION: f64 = 0.7;
+
+/// A tiler runs the vertex shader once to bin and once to draw (assumption: no position-only
+/// variant; an upper bound).
+pub const VERTEX_PASSES: f64 = 2.0;
+
+/// The gate `vr-ocean gpu-budget` is tested against: a standard view's estimate within this
+/// share of its headset's frame budget.
+pub const GATE_SHARE: f64 = 0.75;
+
+/// One GPU's published throughput.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct GpuFigures {
+    /// The GPU's name.
+    pub name: &'static str,
+    /// FP32 operations per second the shader cores issue at the clock used (lanes × clock).
+    pub alu_per_s: f64,
+    /// Trilinear texture samples per second at that clock.
+    pub samples_per_s: f64,
+    /// DRAM bandwidth (bytes/s) the resolved eye images are stored through.
+    pub bytes_per_s: f64,
+}
+
+/// Fixed foveation's level, with the share of fragment shading it saves (modelled).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum FoveationLevel {
+    /// Full rate.
+    Off,
+    /// Slight.
+    Low,
+    /// Moderate.
+    Medium,
+    /// Strong.
+    High,
+}
+
+impl FoveationLevel {
+    /// The share of fragment invocations the level saves: Meta quotes savings of up to about a
+    /// quarter of shading at the highest fixed level; the lower levels are interpolated
+    /// (assumption).
+    pub fn saving(self) -> f64 {
+        match self {
+            FoveationLevel::Off => 0.0,
+            FoveationLevel::Low => 0.10,
+            FoveationLevel::Medium => 0.18,
+            FoveationLevel::High => 0.25,
+        }
+    }
+}
+
+/// A headset at its default settings in this app (`xr::openxr::quest::Headset::defaults`).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct HeadsetModel {
+    /// The headset.
+    pub name: &'static str,
+    /// Its GPU at the clock apps get by default.
+    pub gpu: GpuFigures,
+    /// Eye-buffer size (pixels) at render scale 1.
+    pub eye: (u32, u32),
+    /// Display refresh rate (Hz) the app asks for.
+    pub refresh_hz: f64,
+    /// MSAA samples.
+    pub msaa: u32,
+    /// Fixed foveation level.
+    pub foveation: FoveationLevel,
+    /// LOD quality preset, as `QualityPreset::name` spells it.
+    pub preset: &'static str,
+}
+
+impl HeadsetModel {
+    /// The frame budget (ms): one refresh period.
+    pub fn budget_ms(&self) -> f64 {
+        1000.0 / self.refresh_hz
+    }
+}
+
+/// Quest 2: Adreno 650 (512 FP32 lanes) at 490 MHz (GPU level 3, Meta's CPU and GPU levels
+/// page), 32 bilinear texels a clock (16 trilinear), LPDDR4X at 34 GB/s; 1440 × 1584 eye
+/// buffers at 72 Hz, MSAA 4, high foveation, the medium preset.
+pub const QUEST_2: HeadsetModel = HeadsetModel {
+    name: "Quest 2",
+    gpu: GpuFigures {
+        name: "Adreno 650 @ 490 MHz",
+        alu_per_s: 512.0 * 490e6,
+        samples_per_s: 16.0 * 490e6,
+        bytes_per_s: 34.1e9,
+    },
+    eye: (1440, 1584),
+    refresh_hz: 72.0,
+    msaa: 4,
+    foveation: FoveationLevel::High,
+    preset: "medium",
+};
+
+/// Quest 3: Adreno 740 at 599 MHz (the default maximum since a 2024 firmware, UploadVR), taken
+/// as Qualcomm's "up to 2.5x" the XR2 Gen 1's peak (512 lanes at 587 MHz) for ALU and texture
+/// rate, LPDDR5 at 51 GB/s; 1680 × 1760 eye buffers at 90 Hz, MSAA 4, medium foveation, the
+/// high preset.
+pub const QUEST_3: HeadsetModel = HeadsetModel {
+    name: "Quest 3",
+    gpu: GpuFigures {
+        name: "Adreno 740 @ 599 MHz",
+        alu_per_s: 2.5 * 512.0 * 587e6,
+        samples_per_s: 2.5 * 16.0 * 587e6,
+        bytes_per_s: 51.2e9,
+    },
+    eye: (1680, 1760),
+    refresh_hz: 90.0,
+    msaa: 4,
+    foveation: FoveationLevel::Medium,
+    preset: "high",
+};
+
+/// The headsets `gpu-budget` models.
+pub const HEADSETS: [HeadsetModel; 2] = [QUEST_2, QUEST_3];
+
+/// A standard view: where the eyes are and where they look.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct StandardView {
+    /// Short name (the JSON's `view`).
+    pub name: &'static str,
+    /// Eye height above the mean sea (m).
+    pub height: f32,
+    /// Yaw (degrees; 0 looks along −z, the default sun is at −28).
+    pub yaw: f32,
+    /// Pitch (degrees, negative looks down).
+    pub pitch: f32,
+}
+
+/// The views every headset is measured in: standing on the deck facing the horizon, into the
+/// sun's glitter, looking down at the water, and 25 m up.
+pub const VIEWS: [StandardView; 4] = [
+    StandardView {
+        name: "horizon",
+        height: 1.7,
+        yaw: 0.0,
+        pitch: 0.0,
+    },
+    StandardView {
+        name: "glitter",
+        height: 1.7,
+        yaw: -28.0,
+        pitch: -5.0,
+    },
+    StandardView {
+        name: "down",
+        height: 1.7,
+        yaw: 60.0,
+        pitch: -60.0,
+    },
+    StandardView {
+        name: "high",
+        height: 25.0,
+        yaw: 0.0,
+        pitch: -15.0,
+    },
+];
+
+/// What one frame of a view measured, both eyes together.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct PathCounts {
+    /// Sky fragments.
+    pub sky: u64,
+    /// Water fragments shaded once (the highlight not supersampled).
+    pub single: u64,
+    /// Water fragments whose highlight was supersampled.
+    pub supersampled: u64,
+    /// Cascades sampled again at the sub-pixel positions, summed over supersampled fragments.
+    pub resamples: u64,
+    /// Water fragments with foam (coverage above zero): the pattern and bubbles looked at.
+    pub foam: u64,
+    /// Water fragments without anti-aliasing.
+    pub plain: u64,
+    /// Fragment-shader invocations of the whole pass (pipeline statistics; helper lanes and
+    /// the solids' fragments included where the device counts them); 0 when unavailable.
+    pub fragment_invocations: u64,
+    /// Vertex-shader invocations of the whole pass (pipeline statistics); 0 when unavailable.
+    pub vertex_invocations: u64,
+}
+
+impl PathCounts {
+    /// Fragments the counting shader tallied (sky and water).
+    pub fn tallied(&self) -> u64 {
+        self.sky + self.single + self.supersampled + self.plain
+    }
+}
+
+/// What one invocation of each path costs (from the cost variants' SPIR-V).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct PathCosts {
+    /// The sky.
+    pub sky: InstructionCounts,
+    /// Water shaded once.
+    pub single: InstructionCounts,
+    /// Water with its highlight supersampled, no cascade sampled again.
+    pub supersampled: InstructionCounts,
+    /// What each cascade sampled again adds.
+    pub resample: InstructionCounts,
+    /// What foam adds to a water fragment.
+    pub foam: InstructionCounts,
+    /// Water without anti-aliasing.
+    pub plain: InstructionCounts,
+    /// The ocean's vertex shader.
+    pub vertex: InstructionCounts,
+}
+
+/// The cost variants' module names (`COST_SHADERS` in `shaders/shader_table.rs`), in the order
+/// [`PathCosts::of_modules`] takes them.
+pub const COST_MODULES: [&str; 7] = [
+    "cost_sky.frag",
+    "cost_single.frag",
+    "cost_super0.frag",
+    "cost_super1.frag",
+    "cost_foam.frag",
+    "cost_plain.frag",
+    "cost_ocean.vert",
+];
+
+impl PathCosts {
+    /// Counts the cost variants built into this binary.
+    pub fn of_shaders() -> Result<Self, spirv::CountError> {
+        Self::of_modules([
+            cost::SKY,
+            cost::SINGLE,
+            cost::SUPERSAMPLED,
+            cost::SUPERSAMPLED_RESAMPLE,
+            cost::FOAM,
+            cost::PLAIN,
+            cost::VERTEX,
+        ])
+    }
+
+    /// Counts cost variants given in [`COST_MODULES`] order (e.g. those of another version of
+    /// the shaders, to compare).
+    pub fn of_modules(m: [&[u32]; 7]) -> Result<Self, spirv::CountError> {
+        let single = spirv::count(m[1])?;
+        let supersampled = spirv::count(m[2])?;
+        Ok(Self {
+            sky: spirv::count(m[0])?,
+            single,
+            supersampled,
+            resample: spirv::count(m[3])?.minus(supersampled),
+            foam: spirv::count(m[4])?.minus(single),
+            plain: spirv::count(m[5])?,
+            vertex: spirv::count(m[6])?,
+        })
+    }
+}
+
+/// One row of the report: a headset in a view.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct ViewEstimate {
+    /// The headset's name.
+    pub headset: &'static str,
+    /// The view's name.
+    pub view: &'static str,
+    /// Fragment invocations per eye-buffer pixel (tallied, before foveation).
+    pub invocations_per_pixel: f64,
+    /// Share of water fragments whose highlight was supersampled.
+    pub supersampled_share: f64,
+    /// ALU issue slots per pixel (special operations weighted by [`SPECIAL_COST`]), after
+    /// foveation.
+    pub alu_per_pixel: f64,
+    /// Texture samples per pixel, after foveation.
+    pub samples_per_pixel: f64,
+    /// Estimated GPU time of the frame (ms): vertex + fragment (the larger of ALU and texture
+    /// time) + storing the resolved eye images.
+    pub estimated_ms: f64,
+    /// Its parts (ms): vertex work, fragment ALU, texture, store.
+    pub parts_ms: [f64; 4],
+    /// The frame budget (ms).
+    pub budget_ms: f64,
+    /// `estimated_ms / budget_ms`.
+    pub share: f64,
+    /// The GPU time the counting pass took on the device that counted (median, ms; its
+    /// tallies add a little): lavapipe's is no headset's, a real GPU's checks that time
+    /// follows the counted work.
+    pub measured_gpu_ms: Option<f64>,
+    /// What was measured for it.
+    pub counts: PathCounts,
+}
+
+/// The estimate for `headset` of a frame that measured `counts`, with `costs` per invocation.
+pub fn estimate(
+    headset: &HeadsetModel,
+    view: &StandardView,
+    costs: &PathCosts,
+    counts: &PathCounts,
+) -> ViewEstimate {
+    let slots = |c: InstructionCounts| c.alu as f64 + SPECIAL_COST * c.special as f64;
+    let n = |x: u64| x as f64;
+    let paths = [
+        (n(counts.sky), costs.sky),
+        (n(counts.single), costs.single),
+        (n(counts.supersampled), costs.supersampled),
+        (n(counts.resamples), costs.resample),
+        (n(counts.foam), costs.foam),
+        (n(counts.plain), costs.plain),
+    ];
+    let kept = 1.0 - headset.foveation.saving();
+    let alu: f64 = paths.iter().map(|(k, c)| k * slots(*c)).sum::<f64>() * kept;
+    let samples: f64 = paths.iter().map(|(k, c)| k * c.samples as f64).sum::<f64>() * kept;
+    let gpu = &headset.gpu;
+    let vertex_ms =
+        1e3 * VERTEX_PASSES * n(counts.vertex_invocations) * slots(costs.vertex) / gpu.alu_per_s;
+    let alu_ms = 1e3 * alu / (gpu.alu_per_s * UTILIZATION);
+    let texture_ms = 1e3 * samples / (gpu.samples_per_s * UTILIZATION);
+    let pixels = 2.0 * headset.eye.0 as f64 * headset.eye.1 as f64;
+    let store_ms = 1e3 * pixels * 4.0 / gpu.bytes_per_s;
+    let estimated_ms = vertex_ms + alu_ms.max(texture_ms) + store_ms;
+    let water = n(counts.single + counts.supersampled + counts.plain).max(1.0);
+    ViewEstimate {
+        headset: headset.name,
+        view: view.name,
+        invocations_per_pixel: n(counts.tallied()) / pixels,
+        supersampled_share: n(counts.supersampled) / water,
+        alu_per_pixel: alu / pixels,
+        samples_per_pixel: samples / pixels,
+        estimated_ms,
+        parts_ms: [vertex_ms, alu_ms, texture_ms, store_ms],
+        budget_ms: headset.budget_ms(),
+        share: estimated_ms / headset.budget_ms(),
+        measured_gpu_ms: None,
+        counts: *counts,
+    }
+}
+
+/// The report as a table, one line per headset and view.
+pub fn table(rows: &[ViewEstimate]) -> String {
+    let mut out = String::from(
+        "headset  view     inv/px  ss%   ALU/px  tex/px  vert ms  ALU ms  tex ms  store ms  \
+         est. ms  budget ms  share\n",
+    );
+    for r in rows {
+        out.push_str(&format!(
+            "{:<8} {:<8} {:>6.2} {:>4.0} {:>7.0} {:>7.1} {:>8.2} {:>7.2} {:>7.2} {:>9.2} {:>8.2} \
+             {:>10.1} {:>5.0}%\n",
+            r.headset,
+            r.view,
+            r.invocations_per_pixel,
+            100.0 * r.supersampled_share,
+            r.alu_per_pixel,
+            r.samples_per_pixel,
+            r.parts_ms[0],
+            r.parts_ms[1],
+            r.parts_ms[2],
+            r.parts_ms[3],
+            r.estimated_ms,
+            r.budget_ms,
+            100.0 * r.share
+        ));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn costs() -> PathCosts {
+        PathCosts::of_shaders().unwrap()
+    }
+
+    #[test]
+    fn more_supersampled_fragments_cost_more_and_foveation_saves() {
+        let view = &VIEWS[0];
+        let pixels = (1440 * 1584 * 2) as u64;
+        let mut counts = PathCounts {
+            sky: pixels / 3,
+            single: pixels / 2,
+            supersampled: pixels / 6,
+            resamples: pixels / 6,
+            foam: pixels / 20,
+            vertex_invocations: 300_000,
+            ..Default::default()
+        };
+        let base = estimate(&QUEST_2, view, &costs(), &counts);
+        assert!(base.estimated_ms > 0.0 && base.estimated_ms.is_finite());
+        assert!((base.invocations_per_pixel - 1.0).abs() < 1e-3);
+        counts.supersampled *= 2;
+        let more = estimate(&QUEST_2, view, &costs(), &counts);
+        assert!(more.estimated_ms > base.estimated_ms);
+        let mut unfoveated = QUEST_2;
+        unfoveated.foveation = FoveationLevel::Off;
+        let off = estimate(&unfoveated, view, &costs(), &counts);
+        assert!(off.parts_ms[1] > more.parts_ms[1] * 1.3);
+        // The same work on the faster GPU at the same size takes less time.
+        let mut q3 = QUEST_3;
+        q3.eye = QUEST_2.eye;
+        q3.foveation = FoveationLevel::High;
+        assert!(estimate(&q3, view, &costs(), &counts).estimated_ms < more.estimated_ms);
+        let text = table(&[base, more]);
+        assert_eq!(text.lines().count(), 3);
+    }
+
+    #[test]
+    fn budgets_follow_the_refresh_rate() {
+        assert!((QUEST_2.budget_ms() - 13.889).abs() < 1e-3);
+        assert!((QUEST_3.budget_ms() - 11.111).abs() < 1e-3);
+    }
+}

@@ -1,0 +1,145 @@
+//! Making a renderer: the settings checked before anything exists, then its parts created one
+//! after the other, all or nothing (whatever exists is destroyed when a later step fails).
+
+use super::foam_pattern::FoamPattern;
+use super::mesh::MeshBuffers;
+use super::probe::PathProbe;
+use super::sky_map::SkyMap;
+use super::slots::{SlotSizes, Slots};
+use super::targets::Targets;
+use super::textures::CascadeTextures;
+use super::{RendererSettings, TargetImages, MAX_CASCADES};
+use crate::lod::OceanLod;
+use crate::render::context::GpuContext;
+use crate::render::error::RenderError;
+use crate::render::pipeline::{PassLayout, Pipelines};
+use crate::sim::OceanConfig;
+
+/// The parts of a renderer, made one after the other; whatever exists is destroyed when a
+/// later step fails.
+#[derive(Default)]
+pub(super) struct Parts {
+    pub pipelines: Option<Pipelines>,
+    pub textures: Option<CascadeTextures>,
+    pub mesh: Option<MeshBuffers>,
+    pub targets: Option<Targets>,
+    pub sky: Option<SkyMap>,
+    pub foam: Option<FoamPattern>,
+    pub probe: Option<PathProbe>,
+    pub slots: Option<Slots>,
+}
+
+impl Parts {
+    pub fn destroy(&mut self, ctx: &GpuContext) {
+        if let Some(mut p) = self.probe.take() {
+            p.destroy(ctx);
+        }
+        if let Some(mut s) = self.slots.take() {
+            s.destroy(ctx);
+        }
+        if let Some(mut t) = self.targets.take() {
+            t.destroy(ctx);
+        }
+        if let Some(mut f) = self.foam.take() {
+            f.destroy(ctx);
+        }
+        if let Some(mut s) = self.sky.take() {
+            s.destroy(ctx);
+        }
+        if let Some(mut m) = self.mesh.take() {
+            m.destroy(ctx);
+        }
+        if let Some(mut t) = self.textures.take() {
+            t.destroy(ctx);
+        }
+        if let Some(mut p) = self.pipelines.take() {
+            p.destroy(ctx);
+        }
+    }
+}
+
+/// Checks the settings and targets before anything is created.
+pub(super) fn validate(
+    config: &OceanConfig,
+    targets: TargetImages<'_>,
+    settings: &RendererSettings,
+) -> Result<(), RenderError> {
+    if settings.frames_in_flight < 2 || settings.frames_in_flight > 4 {
+        return Err(RenderError::Invalid(format!(
+            "frames in flight: {} is outside [2, 4]",
+            settings.frames_in_flight
+        )));
+    }
+    if !(settings.fog_distance.is_finite() && settings.fog_distance > 0.0) {
+        return Err(RenderError::Invalid(format!(
+            "fog distance {} m: must be a positive number of metres",
+            settings.fog_distance
+        )));
+    }
+    if config.patch_sizes.len() > MAX_CASCADES {
+        return Err(RenderError::Invalid(format!(
+            "{} cascades: the renderer draws at most {MAX_CASCADES}",
+            config.patch_sizes.len()
+        )));
+    }
+    if !targets.density_maps.is_empty() && targets.density_maps.len() != targets.images.len() {
+        return Err(RenderError::Invalid(format!(
+            "{} density maps for {} colour images: one each",
+            targets.density_maps.len(),
+            targets.images.len()
+        )));
+    }
+    if targets.extent.width == 0 || targets.extent.height == 0 {
+        return Err(RenderError::Invalid(format!(
+            "target size {}x{}: both sides must be at least 1 pixel",
+            targets.extent.width, targets.extent.height
+        )));
+    }
+    Ok(())
+}
+
+/// Makes the parts in order into `parts` (the caller destroys them if this fails).
+pub(super) fn make_parts(
+    ctx: &GpuContext,
+    config: &OceanConfig,
+    lod: &OceanLod,
+    targets: TargetImages<'_>,
+    settings: &RendererSettings,
+    parts: &mut Parts,
+) -> Result<(), RenderError> {
+    let pass = PassLayout {
+        mode: settings.stereo,
+        colour_format: targets.format,
+        msaa: settings.msaa,
+        store_depth: !targets.depth.is_empty(),
+        density_map: !targets.density_maps.is_empty(),
+    };
+    let pipelines = parts
+        .pipelines
+        .insert(Pipelines::new(ctx, pass, settings.count_paths)?);
+    let textures = parts.textures.insert(CascadeTextures::new(ctx, config)?);
+    parts.mesh = Some(MeshBuffers::new(ctx, lod)?);
+    parts.targets = Some(Targets::new(ctx, pipelines, targets)?);
+    let map = lod.settings().map_width() as usize;
+    let sizes = SlotSizes {
+        staging: CascadeTextures::staging_size(config),
+        instances: map * map + 1,
+    };
+    let frames = settings.frames_in_flight;
+    let sky = parts.sky.insert(SkyMap::new(ctx, &settings.sun)?);
+    let [disp, norm, caps] = textures.descriptors();
+    let foam = parts.foam.insert(FoamPattern::new(ctx)?);
+    let images = [disp, norm, caps, sky.descriptor(), foam.descriptor()];
+    let tally = if settings.count_paths {
+        Some(
+            parts
+                .probe
+                .insert(PathProbe::new(ctx, frames)?)
+                .descriptor(),
+        )
+    } else {
+        None
+    };
+    parts.slots = Some(Slots::new(ctx, pipelines, &images, tally, sizes, frames)?);
+    Ok(())
+}
