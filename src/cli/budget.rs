@@ -173,7 +173,9 @@ fn measure(
         },
         ..ContextOptions::default()
     };
-    let frames = 2;
+    // Four frames: the tallies are averaged over all of them, and the pass's timestamps (read a
+    // frame or two late) reach the report for the last ones.
+    let frames = 4;
     let mut xr = HeadlessXr::new(&ctx, size, path, frames)?;
     // Mesa's lavapipe draws the second view's clipped triangles into the first view with
     // multiview; two passes count the same fragments.
