@@ -300,9 +300,9 @@ pub struct ViewEstimate {
     pub budget_ms: f64,
     /// `estimated_ms / budget_ms`.
     pub share: f64,
-    /// The GPU time the counting pass took on the device that counted (median, ms; its
-    /// tallies add a little): lavapipe's is no headset's, a real GPU's checks that time
-    /// follows the counted work.
+    /// The GPU time the counting pass took on the device that counted (median, ms). Its
+    /// tally's atomics serialize on a real GPU, so this includes the counting's own cost (on an
+    /// H200 it rose to 31 ms 25 m up, from 6 ms looking down); lavapipe's is no headset's.
     pub measured_gpu_ms: Option<f64>,
     /// What was measured for it.
     pub counts: PathCounts,
