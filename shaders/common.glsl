@@ -43,6 +43,9 @@ layout(set = 0, binding = 0, std140) uniform Globals {
     // ...x, y: 1 / each whitecap level's side (1/m); z: half a texel of the cascades (0.5 / N);
     // w: 1 / the crest height light starts to shine through (1/m, from the wave height).
     vec4 derived;
+    // rgb: the radiance of a white Lambertian surface facing up, lit by the sun and the sky
+    // (horizontal illuminance / π, kcd/m²): the water body's, foam's and bubbles' light scale.
+    vec4 diffuse;
 } g;
 
 const float PI = 3.14159265;
@@ -88,7 +91,7 @@ vec3 fog_colour(vec3 d) {
 
 // Illuminance on a horizontal surface from the sun and the sky (klux).
 vec3 horizontal_illuminance() {
-    return g.sun_illuminance.rgb * max(g.sun.y, 0.0) + g.sky_illuminance.rgb;
+    return g.diffuse.rgb * PI;
 }
 
 // Khronos PBR Neutral tone mapping: linear in, linear out in [0, 1] (the sRGB target encodes).

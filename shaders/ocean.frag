@@ -368,11 +368,11 @@ float sun_highlight(vec3 n, SunView s, float a2) {
 vec3 water_body(vec3 n, Foam f, vec3 v, float height) {
     float ndotv = max(dot(n, v), 1e-3);
     vec3 l = g.sun.xyz;
-    vec3 irradiance = horizontal_illuminance();
     float grazing = (1.0 - ndotv) * (1.0 - ndotv);
-    vec3 body = mix(WATER_BODY_REFLECTANCE, WATER_BODY_GRAZING, grazing) * irradiance / PI;
-    vec3 bubble_tint = exp(-PURE_WATER_ABSORPTION * 2.0 * BUBBLE_DEPTH);
-    body += BUBBLE_REFLECTANCE * f.bubbles * bubble_tint * irradiance / PI;
+    vec3 bubbles = BUBBLE_REFLECTANCE * exp(-PURE_WATER_ABSORPTION * 2.0 * BUBBLE_DEPTH);
+    vec3 reflectance = mix(WATER_BODY_REFLECTANCE, WATER_BODY_GRAZING, grazing)
+        + f.bubbles * bubbles;
+    vec3 body = reflectance * g.diffuse.rgb;
     float crest = clamp(height * g.derived.w, 0.0, 1.0);
     float behind = max(dot(-v, l), 0.0);
     behind *= behind;
@@ -402,8 +402,7 @@ vec3 surface_light(vec3 n, vec3 body, SunView sv, float a2) {
 
 // Foam: a diffuse white layer over the share of the pixel it covers.
 vec3 with_foam(vec3 colour, Foam f) {
-    vec3 foam = FOAM_ALBEDO * horizontal_illuminance() / PI;
-    return mix(colour, foam, f.drawn);
+    return mix(colour, FOAM_ALBEDO * g.diffuse.rgb, f.drawn);
 }
 
 // The surface's light over the pixel's `body` and `reflected` sky, averaged over the pixel's
@@ -544,7 +543,11 @@ void main() {
     }
     colour = with_foam(colour, f);
 
+    // Fog to the sky at the horizon, looked up only where it shows (more than a fifth of a
+    // percent: under half a code of the 8-bit image; the near water of most views has none).
     float fog = 1.0 - exp(-dist * g.params.z);
-    colour = mix(colour, fog_colour(-v), fog);
+    if (fog > 0.002) {
+        colour = mix(colour, fog_colour(-v), fog);
+    }
     o_colour = vec4(display(colour), 1.0);
 }

@@ -73,6 +73,9 @@ pub struct Globals {
     /// 1 / each whitecap level's side (x, y; 1/m), half a cascade texel (z: 0.5 / N), and
     /// 1 / the crest height light shines through (w; 1/m).
     pub derived: [f32; 4],
+    /// The radiance of a white Lambertian surface facing up (rgb, kcd/m²): the horizontal
+    /// illuminance of the sun and the sky over π.
+    pub diffuse: [f32; 4],
 }
 
 impl Globals {

@@ -64,6 +64,9 @@ impl PassConstants {
         g.sun_radiance = light.sun_radiance.extend(light.sun_cos_radius).to_array();
         g.sun_illuminance = light.sun_illuminance.extend(light.exposure).to_array();
         g.sky_illuminance = light.sky_illuminance.extend(light.levels as f32).to_array();
+        let horizontal =
+            light.sun_illuminance * light.sun_direction.y.max(0.0) + light.sky_illuminance;
+        g.diffuse = (horizontal / std::f32::consts::PI).extend(0.0).to_array();
         let mut patch_sizes = [1.0; 4];
         for (p, c) in patch_sizes.iter_mut().zip(&input.surfaces.cascades) {
             *p = c.patch;
