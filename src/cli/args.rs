@@ -79,7 +79,8 @@ pub struct OceanArgs {
     /// Wind direction (degrees from +x toward +z).
     #[arg(long, allow_negative_numbers = true, default_value_t = 0.0)]
     pub wind_dir: f32,
-    /// Directional alignment α in [0, 1].
+    /// Directional alignment α in [0, 1] of the Phillips spectrum (the thesis's spread; the
+    /// JONSWAP sea spreads by frequency, narrow at its peak and wide above, after Hasselmann).
     #[arg(long, allow_negative_numbers = true, default_value_t = 0.8)]
     pub alignment: f32,
     /// Choppiness λ in [0, 2].

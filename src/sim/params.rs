@@ -56,7 +56,9 @@ pub struct WaveParams {
     pub wind_speed: f32,
     /// Direction the wind blows toward, degrees from +x toward +z.
     pub wind_direction_deg: f32,
-    /// Directional alignment α ∈ [0, 1] (eq. 6, 8): 0 spreads widely, 1 follows the wind.
+    /// Directional alignment α ∈ [0, 1] (eq. 6, 8) of the Phillips spectrum: 0 spreads widely,
+    /// 1 follows the wind. The JONSWAP sea's spread depends on the frequency instead
+    /// ([`crate::sim::spectrum::spreading`]).
     pub alignment: f32,
     /// Water depth (m) for the finite-depth dispersion ω² = gk·tanh(kd); `None` = deep water.
     pub depth: Option<f32>,

@@ -135,14 +135,6 @@ pub fn peak_frequency(wind: f32, fetch_m: f64) -> f64 {
     22.0 * libm::cbrt(g * g / (wind as f64 * fetch_m))
 }
 
-/// Normalization of the directional spreading |cos θ|^(2s), with the back half scaled by σ:
-/// ∫ over the circle = (1 + σ)·√π·Γ(s + ½)/Γ(s + 1), so that the spread distribution integrates
-/// to one and the total variance is that of S(ω).
-pub fn spreading_norm(s: f64, counter: f64) -> f64 {
-    let half = libm::sqrt(std::f64::consts::PI) * libm::tgamma(s + 0.5) / libm::tgamma(s + 1.0);
-    (1.0 + counter) * half
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -165,24 +157,6 @@ mod tests {
         assert!(JonswapSea::new(20.0, 1.0e6, 3.3).peak_wavelength() > 3.0 * l10);
         // Shallow water keeps less of the long waves.
         assert!(depth_factor(0.5, 5.0) < 0.5 && depth_factor(3.0, 50.0) == 1.0);
-    }
-
-    #[test]
-    fn spreading_integrates_to_one() {
-        for (s, sigma) in [(1.0, 0.5), (6.0, 0.01), (3.45, 0.2)] {
-            let z = spreading_norm(s, sigma);
-            let n = 100_000;
-            let mut sum = 0.0;
-            for i in 0..n {
-                let th =
-                    -std::f64::consts::PI + (i as f64 + 0.5) * std::f64::consts::TAU / n as f64;
-                let c = th.cos();
-                let w = if c < 0.0 { sigma } else { 1.0 };
-                sum += w * c.abs().powf(2.0 * s) / z;
-            }
-            let integral = sum * std::f64::consts::TAU / n as f64;
-            assert!((integral - 1.0).abs() < 1e-6, "{s} {sigma}: {integral}");
-        }
     }
 
     fn m0(wind: f32, fetch: f64, gamma: f32) -> f64 {

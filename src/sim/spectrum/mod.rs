@@ -4,6 +4,7 @@
 pub mod jonswap;
 pub mod phillips;
 pub mod rng;
+pub mod spreading;
 
 use rayon::prelude::*;
 
@@ -74,7 +75,8 @@ pub struct CascadeSpec {
 }
 
 /// What every mode of a spectrum shares, computed once per spectrum (not per mode): the wind's
-/// direction, the spreading exponent, and for JONSWAP the sea ([`jonswap::JonswapSea`]).
+/// direction, the thesis's spreading exponent (Phillips), and for JONSWAP the sea
+/// ([`jonswap::JonswapSea`]) and its frequency-dependent spreading ([`spreading::Spreading`]).
 #[derive(Clone, Copy, Debug)]
 pub struct SpectrumModel {
     waves: WaveParams,
@@ -83,6 +85,7 @@ pub struct SpectrumModel {
     spread: f64,
     counter: f64,
     sea: Option<jonswap::JonswapSea>,
+    spreading: Option<spreading::Spreading>,
 }
 
 impl SpectrumModel {
@@ -103,6 +106,7 @@ impl SpectrumModel {
             dir_sin: libm::sin(dir),
             spread: phillips::spreading_exponent(waves.alignment),
             counter: phillips::counter_wave_factor(waves.alignment),
+            spreading: sea.map(|s| spreading::Spreading::new(waves.wind_speed, s.peak_frequency())),
             sea,
         }
     }
@@ -134,32 +138,31 @@ pub fn mode_power(model: &SpectrumModel, c: &CascadeSpec, col: usize, row: usize
 pub fn power_at(model: &SpectrumModel, c: &CascadeSpec, kx: f64, kz: f64, k: f64) -> f64 {
     let waves = &model.waves;
     let cos_theta = (kx * model.dir_cos + kz * model.dir_sin) / k;
-    let s = model.spread;
-    let counter = model.counter;
-    let against = if cos_theta < 0.0 { counter } else { 1.0 };
     let cutoff = phillips::cutoff_length(c.patch, waves.small_wave_suppression);
     let suppress = phillips::small_wave_factor(k, cutoff);
-    let power = match (waves.spectrum, model.sea.as_ref()) {
-        (SpectrumKind::Jonswap { .. }, Some(sea)) => {
+    let power = match (waves.spectrum, model.sea.as_ref(), model.spreading.as_ref()) {
+        (SpectrumKind::Jonswap { .. }, Some(sea), Some(spreading)) => {
             let w = dispersion::omega(k, waves.depth);
             let mut s_w = sea.density(w);
             if let Some(d) = waves.depth {
                 s_w *= jonswap::depth_factor(w, d as f64);
             }
             let f_k = s_w * dispersion::domega_dk(k, waves.depth);
-            let spread = libm::pow(cos_theta.abs(), 2.0 * s) / jonswap::spreading_norm(s, counter);
+            let spread = spreading.density(w, cos_theta);
             let dk = std::f64::consts::TAU / c.patch as f64;
-            // F(kx, kz) = F(k)·D(θ)/k; half the cell's variance goes to each of h₀(k), h₀(−k).
+            // F(kx, kz) = F(k)·D(θ; ω)/k; half the cell's variance goes to each of h₀(k), h₀(−k).
             0.5 * f_k * spread / k * dk * dk
         }
-        (SpectrumKind::Phillips { amplitude }, _) => {
+        (SpectrumKind::Phillips { amplitude }, _, _) => {
+            // The thesis's spread (eq. 6, 8): |cos θ|²ˢ, the waves against the wind damped.
+            let against = if cos_theta < 0.0 { model.counter } else { 1.0 };
             let a = phillips::normalization(amplitude, c.grid.n(), c.patch);
-            phillips::power(a, k, cos_theta, waves.wind_speed, s)
+            phillips::power(a, k, cos_theta, waves.wind_speed, model.spread) * against
         }
-        // A model always carries its JONSWAP sea.
-        (SpectrumKind::Jonswap { .. }, None) => 0.0,
+        // A model always carries its JONSWAP sea and spreading.
+        (SpectrumKind::Jonswap { .. }, _, _) => 0.0,
     };
-    power * against * suppress
+    power * suppress
 }
 
 /// Slope variances (mean of |∇h|², both directions) of a cascade's waves.
@@ -507,6 +510,7 @@ mod tests {
 
     /// Recorded from the first run on x86-64; aarch64 must reproduce it bit for bit.
     const SPECTRUM_FINGERPRINT: u64 = 0x665d_2cba_dfc5_7aad;
-    /// The same for the default JONSWAP sea (300 km fetch).
-    const JONSWAP_FINGERPRINT: u64 = 0x0b66_a113_d95d_63e5;
+    /// The same for the default JONSWAP sea (300 km fetch), with the frequency-dependent
+    /// spreading of issue 29 (recorded on x86-64; aarch64 reproduces it under qemu in CI).
+    const JONSWAP_FINGERPRINT: u64 = 0xf24d_609d_f8f5_5d5d;
 }
