@@ -88,6 +88,35 @@ fn simulate_runs_and_reports() {
     assert!(text.contains("Hs"), "{text}");
 }
 
+/// `simulate` reports the whitecap coverage the renderer draws (issue 29: it printed the
+/// per-cascade foam, 0.0 % in a gale whose whitecaps cover several percent of the sea).
+#[test]
+fn simulate_reports_the_whitecaps_the_renderer_draws() {
+    let out = run_ok(&[
+        "simulate",
+        "--grid",
+        "64",
+        "--wind",
+        "20",
+        "--seconds",
+        "3",
+        "--threads",
+        "2",
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    let last = text.lines().last().unwrap_or_default();
+    let pct: f64 = last
+        .split("whitecaps")
+        .nth(1)
+        .and_then(|r| r.trim().split('%').next())
+        .and_then(|v| v.trim().parse().ok())
+        .unwrap_or_else(|| panic!("no whitecap coverage in {last:?}"));
+    assert!(
+        pct > 1.0 && pct < 30.0,
+        "20 m/s after 3 s: {pct} % ({last})"
+    );
+}
+
 #[test]
 fn the_derivative_mode_is_chosen_on_the_command_line() {
     // The same sea exported with spectral derivatives and with central differences: the same

@@ -142,14 +142,21 @@ pub fn simulate(a: SimulateArgs) -> CmdResult {
                 .map(|d| (d[1].to_f64()).powi(2))
                 .sum::<f64>()
                 / n;
-            let foam = c0.normal_foam[..texels]
-                .iter()
-                .map(|p| ((p >> 16) & 0xff) as f64 / 255.0)
-                .sum::<f64>()
-                / n;
+            // The foam the renderer draws: the whole surface's whitecap coverage around the
+            // viewer (the fine level's mean), or, with whitecaps off, each cascade's own foam.
+            let (foam_label, foam) = if cfg.whitecaps {
+                ("whitecaps", f64::from(s.whitecaps.levels[0].mean))
+            } else {
+                let f = c0.normal_foam[..texels]
+                    .iter()
+                    .map(|p| ((p >> 16) & 0xff) as f64 / 255.0)
+                    .sum::<f64>()
+                    / n;
+                ("foam (cascade)", f)
+            };
             let m = s.max_displacement();
             println!(
-                "t={t:6.2}s  step {:6.2} ms  Hs(coarsest)={:5.2} m  max |D|=({:.2}, {:.2}, {:.2}) m  foam {:4.1}%  h(0,0)={:+.3} m",
+                "t={t:6.2}s  step {:6.2} ms  Hs(coarsest)={:5.2} m  max |D|=({:.2}, {:.2}, {:.2}) m  {foam_label} {:4.1}%  h(0,0)={:+.3} m",
                 wall.as_secs_f64() * 1e3 / count as f64,
                 4.0 * var.sqrt(),
                 m[0],
