@@ -117,25 +117,18 @@ impl Batches {
         self.instances.clear();
         self.instances
             .resize(total as usize, PatchInstance::zeroed());
+        // Each configuration's nearest patch (squared distance), found while placing them.
+        let mut nearest = [f32::INFINITY; 16];
         for p in patches {
             let k = p.stitch as usize & 15;
             self.instances[offsets[k] as usize] = p;
             offsets[k] += 1;
-        }
-        let distance = |p: &PatchInstance| {
             let (dx, dz) = (p.centre[0] - viewer[0], p.centre[1] - viewer[1]);
-            dx * dx + dz * dz
-        };
-        let instances = &self.instances;
-        let nearest = |d: &DrawBatch| {
-            let range = d.first_instance as usize..(d.first_instance + d.instance_count) as usize;
-            instances[range]
-                .iter()
-                .map(distance)
-                .fold(f32::INFINITY, f32::min)
-        };
-        self.draws
-            .sort_unstable_by(|a, b| nearest(a).total_cmp(&nearest(b)));
+            nearest[k] = nearest[k].min(dx * dx + dz * dz);
+        }
+        self.draws.sort_unstable_by(|a, b| {
+            nearest[a.stitch.bits() as usize].total_cmp(&nearest[b.stitch.bits() as usize])
+        });
     }
 
     /// The instance buffer, grouped by configuration in the order of [`Self::draws`].
