@@ -216,9 +216,29 @@ pub fn count(words: &[u32]) -> Result<InstructionCounts, CountError> {
             }
             _ => {}
         }
-        result_type.insert(id, ty);
+        if has_result_type(code) {
+            result_type.insert(id, ty);
+        }
     }
     Ok(counts)
+}
+
+/// Whether instructions of opcode `code` start with (result type, result id): the values the
+/// counted instructions read (not stores, decorations or names, whose words mean other things).
+fn has_result_type(code: u16) -> bool {
+    matches!(
+        code,
+        op::EXT_INST
+            | 61 // OpLoad
+            | 79..=83 // OpVectorShuffle, OpCompositeConstruct/Extract/Insert, OpCopyObject
+            | op::IMAGE_SAMPLE_FIRST..=op::IMAGE_SAMPLE_LAST
+            | op::IMAGE_QUERY_LOD
+            | op::CONVERT_FIRST..=op::CONVERT_LAST
+            | op::S_NEGATE..=op::DOT
+            | op::RELATIONAL_FIRST..=op::RELATIONAL_LAST
+            | op::DERIVATIVE_FIRST..=op::DERIVATIVE_LAST
+            | 245 // OpPhi
+    )
 }
 
 /// (ALU, special) operations of GLSL.std.450 instruction `inst` with a result of `n`
