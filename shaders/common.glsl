@@ -54,7 +54,7 @@ const float PI = 3.14159265;
 // diamond angle of the horizontal direction over 4 (0, ¼, ½, ¾ toward +x, +z, −x, −z; REPEAT),
 // v = sqrt(sin(elevation)) (row 0 the horizon, CLAMP), level m prefiltered for GGX roughness
 // m / (levels − 1). The sun disc is not in it. No inverse trigonometry (`render::sky::bake`).
-layout(set = 0, binding = 4) uniform sampler2DArray u_sky;
+layout(set = 0, binding = 4) uniform mediump sampler2DArray u_sky;
 
 // Env-map coordinates of unit direction `d`; below the horizon it reads the horizon.
 vec2 sky_uv(vec3 d) {
@@ -64,8 +64,9 @@ vec2 sky_uv(vec3 d) {
     return vec2(q * 0.25, sqrt(clamp(d.y, 0.0, 1.0)));
 }
 
-// Sky radiance (linear sRGB, kcd/m²) along unit `d`, prefiltered for GGX roughness `rough`.
-vec3 sky_env(vec3 d, float rough) {
+// Sky radiance (linear sRGB, kcd/m²) along unit `d`, prefiltered for GGX roughness `rough`
+// (the sky without the sun stays within half precision's range).
+mediump vec3 sky_env(vec3 d, float rough) {
     float level = clamp(rough, 0.0, 1.0) * (g.sky_illuminance.w - 1.0);
     return textureLod(u_sky, vec3(sky_uv(d), 0.0), level).rgb;
 }
@@ -85,7 +86,7 @@ vec3 sky(vec3 d) {
 // The radiance distant things fade to along `d`: the sky at the horizon at the same azimuth,
 // so the ocean meets the sky without a seam (the map's horizon row: `sky_uv` needs no unit
 // vector for that).
-vec3 fog_colour(vec3 d) {
+mediump vec3 fog_colour(vec3 d) {
     return sky_env(vec3(d.x, 0.0, d.z), 0.0);
 }
 
@@ -99,22 +100,25 @@ vec3 horizontal_illuminance() {
 // compressed toward 1 and desaturated so the brightest lights go white, not clipped hues.
 const float PBR_NEUTRAL_START = 0.8 - 0.04;
 const float PBR_NEUTRAL_DESATURATION = 0.15;
-vec3 tonemap(vec3 c) {
-    float x = min(c.r, min(c.g, c.b));
-    float offset = x < 0.08 ? x - 6.25 * x * x : 0.04;
+mediump vec3 tonemap(mediump vec3 c) {
+    mediump float x = min(c.r, min(c.g, c.b));
+    mediump float offset = x < 0.08 ? x - 6.25 * x * x : 0.04;
     c -= offset;
-    float peak = max(c.r, max(c.g, c.b));
+    mediump float peak = max(c.r, max(c.g, c.b));
     if (peak < PBR_NEUTRAL_START) {
         return c;
     }
     const float d = 1.0 - PBR_NEUTRAL_START;
-    float new_peak = 1.0 - d * d / (peak + d - PBR_NEUTRAL_START);
+    mediump float new_peak = 1.0 - d * d / (peak + d - PBR_NEUTRAL_START);
     c *= new_peak / peak;
-    float grey = 1.0 - 1.0 / (PBR_NEUTRAL_DESATURATION * (peak - new_peak) + 1.0);
+    mediump float grey = 1.0 - 1.0 / (PBR_NEUTRAL_DESATURATION * (peak - new_peak) + 1.0);
     return mix(c, vec3(new_peak), grey);
 }
 
-// Radiance (kcd/m²) to what the sRGB target stores: exposed, then tonemapped.
+// Radiance (kcd/m²) to what the sRGB target stores: exposed, then tonemapped (in half
+// precision, the exposed value held under its largest finite value: the sun's disc is
+// brighter; either way it maps to white).
+const float HALF_MAX = 65000.0;
 vec3 display(vec3 radiance) {
-    return tonemap(max(radiance, vec3(0.0)) * g.sun_illuminance.w);
+    return tonemap(min(max(radiance, vec3(0.0)) * g.sun_illuminance.w, vec3(HALF_MAX)));
 }

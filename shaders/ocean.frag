@@ -27,6 +27,11 @@
 //   Holzschuch 2010; on the CPU, at least what Cox & Munk's observed slopes leave of the
 //   cascades'), and the normal's change across the footprint (Tokuyoshi & Kaplanyan 2019,
 //   clamped).
+//
+// Precision (issue 28): bounded, smooth values are `mediump` (the cascades' and foam's texels,
+// slopes, coverage, the water body, the Fresnel weight, the tone map), run at twice the FP32
+// rate on Adreno; coordinates, the shading normal, the sun's highlight and its GGX α² stay in
+// full precision (docs/notes/gpu-cost-model.md says why each).
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 
@@ -90,9 +95,9 @@ layout(set = 0, binding = 6, std430) buffer PathTally {
 #define COUNT(what, n)
 #endif
 
-layout(set = 0, binding = 2) uniform sampler2DArray u_normal_foam;
+layout(set = 0, binding = 2) uniform mediump sampler2DArray u_normal_foam;
 // Whitecap coverage of the whole surface, one layer per level, toroidal (`sim::whitecaps`).
-layout(set = 0, binding = 3) uniform sampler2DArray u_whitecaps;
+layout(set = 0, binding = 3) uniform mediump sampler2DArray u_whitecaps;
 
 layout(location = 0) in vec3 v_world;
 layout(location = 1) in vec2 v_xz;
@@ -146,7 +151,7 @@ const float WHITECAP_TEXELS = 256.0;
 // two scales (m per tile): the large one shapes the patches, the small one, turned, breaks
 // their edges. The weights of the two in the sum the coverage thresholds.
 // One layer (the renderer's image views are arrays).
-layout(set = 0, binding = 5) uniform sampler2DArray u_foam_pattern;
+layout(set = 0, binding = 5) uniform mediump sampler2DArray u_foam_pattern;
 const float FOAM_TILE_LARGE = 6.0;
 const float FOAM_TILE_SMALL = 2.1;
 const float FOAM_WEIGHT_LARGE = 0.65;
@@ -170,14 +175,14 @@ const float FOAM_ROUGHNESS_A2 = 0.25;
 // The whitecap coverage at rest position `xz`: the fine level inside its window, fading to
 // the coarse level toward its edge, and beyond both to the coarse level's mean. Sampled with
 // the pixel's footprint (`dx`, `dy`), so the mips give the area's coverage far away.
-float whitecap_coverage(vec2 xz, vec2 dx, vec2 dy) {
-    float cover = g.whitecaps[1].w;
+mediump float whitecap_coverage(vec2 xz, vec2 dx, vec2 dy) {
+    mediump float cover = g.whitecaps[1].w;
     UNROLL for (int l = 1; l >= 0; --l) {
         vec4 level = g.whitecaps[l];
         float inv_side = g.derived[l];
         vec2 uv = xz * inv_side + 0.5 / WHITECAP_TEXELS;
-        float c = textureGrad(u_whitecaps, vec3(uv, float(l)), dx * inv_side, dy * inv_side).r;
-        vec2 d = abs(xz - level.xy) * (2.0 * inv_side);
+        mediump float c = textureGrad(u_whitecaps, vec3(uv, float(l)), dx * inv_side, dy * inv_side).r;
+        mediump vec2 d = abs(xz - level.xy) * (2.0 * inv_side);
         cover = mix(cover, c, 1.0 - smoothstep(0.8, 0.95, max(d.x, d.y)));
     }
     return cover;
@@ -186,7 +191,7 @@ float whitecap_coverage(vec2 xz, vec2 dx, vec2 dy) {
 // The value t a share `c` of n = a·u₁ + b·u₂ exceeds, u₁, u₂ uniform on [0, 1] and
 // independent, a = FOAM_WEIGHT_LARGE ≥ b: the inverse of the sum's (trapezoidal) distribution,
 // so thresholding the two-scale pattern at t whitens a share c of the surface.
-float share_threshold(float c) {
+mediump float share_threshold(mediump float c) {
     const float a = FOAM_WEIGHT_LARGE;
     const float b = 1.0 - FOAM_WEIGHT_LARGE;
     const float tail = b / (2.0 * a);
@@ -202,67 +207,70 @@ float share_threshold(float c) {
 // The foam drawn at `xz` for coverage `c`: the two-scale pattern above share_threshold(c), so
 // rising coverage eats into the pattern (flecks, then a web, then a sheet with holes); where
 // the footprint (`dx`, `dy`) outgrows the pattern's cells, the coverage itself.
-float drawn_foam(vec2 xz, vec2 dx, vec2 dy, float c) {
+mediump float drawn_foam(vec2 xz, vec2 dx, vec2 dy, mediump float c) {
     vec2 large = xz / FOAM_TILE_LARGE;
     vec2 small = FOAM_TURN * xz / FOAM_TILE_SMALL + 0.37;
-    float u1 = textureGrad(u_foam_pattern, vec3(large, 0.0), dx / FOAM_TILE_LARGE,
-                           dy / FOAM_TILE_LARGE).r;
-    float u2 = textureGrad(u_foam_pattern, vec3(small, 0.0), FOAM_TURN * dx / FOAM_TILE_SMALL,
-                           FOAM_TURN * dy / FOAM_TILE_SMALL).r;
-    float n = FOAM_WEIGHT_LARGE * u1 + (1.0 - FOAM_WEIGHT_LARGE) * u2;
-    float t = share_threshold(clamp(c, 0.0, 1.0));
-    float sharp = smoothstep(t - FOAM_EDGE, t + FOAM_EDGE, n) * smoothstep(0.0, 0.005, c);
+    mediump float u1 = textureGrad(u_foam_pattern, vec3(large, 0.0), dx / FOAM_TILE_LARGE,
+                                   dy / FOAM_TILE_LARGE).r;
+    mediump float u2 = textureGrad(u_foam_pattern, vec3(small, 0.0),
+                                   FOAM_TURN * dx / FOAM_TILE_SMALL,
+                                   FOAM_TURN * dy / FOAM_TILE_SMALL).r;
+    mediump float n = FOAM_WEIGHT_LARGE * u1 + (1.0 - FOAM_WEIGHT_LARGE) * u2;
+    mediump float t = share_threshold(clamp(c, 0.0, 1.0));
+    mediump float sharp = smoothstep(t - FOAM_EDGE, t + FOAM_EDGE, n) * smoothstep(0.0, 0.005, c);
     float texels = max(length(dx), length(dy)) * (256.0 / FOAM_TILE_LARGE);
-    float far = smoothstep(FOAM_FADE_FROM_LOD, FOAM_FADE_TO_LOD, log2(max(texels, 1e-6)));
+    mediump float far = smoothstep(FOAM_FADE_FROM_LOD, FOAM_FADE_TO_LOD,
+                                   log2(max(texels, 1e-6)));
     return mix(sharp, c, far);
 }
 
 // Bubbles under the surface at `xz` seen along unit `v` through normal `n`: the pattern on a
 // plane BUBBLE_DEPTH below, reached along the refracted ray (it slides against the foam as the
 // head moves), thresholded by the wider bubble coverage. The share of that plane lit.
-float bubbles_under(vec2 xz, vec3 v, vec3 n, vec2 dx, vec2 dy, float c) {
-    vec3 t = refract(-v, n, 1.0 / 1.33);
+mediump float bubbles_under(vec2 xz, mediump vec3 v, mediump vec3 n, vec2 dx, vec2 dy,
+                            mediump float c) {
+    mediump vec3 t = refract(-v, n, 1.0 / 1.33);
     vec2 under = xz + t.xz / max(-t.y, 0.25) * BUBBLE_DEPTH;
-    float u = textureGrad(u_foam_pattern, vec3(under / BUBBLE_TILE + 0.61, 0.0),
-                          dx / BUBBLE_TILE, dy / BUBBLE_TILE).r;
-    float share = min(BUBBLE_SPREAD * c, 1.0);
+    mediump float u = textureGrad(u_foam_pattern, vec3(under / BUBBLE_TILE + 0.61, 0.0),
+                                  dx / BUBBLE_TILE, dy / BUBBLE_TILE).r;
+    mediump float share = min(BUBBLE_SPREAD * c, 1.0);
     return smoothstep(1.0 - share - 0.1, 1.0 - share + 0.1, u) * smoothstep(0.0, 0.005, c);
 }
 
 // The averaged normal's length a smoothness encodes: eq. 53 inverted.
-float normal_length(float smoothness) {
-    float r = (1.0 - smoothness) * (1.0 - smoothness);
-    float t = (-0.85 + sqrt(0.7225 + 0.6 * (1.0 - r))) * (1.0 / 0.3);
+mediump float normal_length(mediump float smoothness) {
+    mediump float r = (1.0 - smoothness) * (1.0 - smoothness);
+    mediump float t = (-0.85 + sqrt(0.7225 + 0.6 * (1.0 - r))) * (1.0 / 0.3);
     return (clamp(t, 0.0, 1.0) + 2.0) / 3.0;
 }
 
 // One cascade's normal-map texel decoded: its slope (n.xz / n.y), foam (eq. 51), smoothness
 // (eq. 53) and the slope variance its filtering hid (Toksvig, beyond the level-0 material's).
 struct CascadeSample {
-    vec2 slope;
-    float foam;
-    float smoothness;
-    float filtered;
+    mediump vec2 slope;
+    mediump float foam;
+    mediump float smoothness;
+    mediump float filtered;
 };
 
-CascadeSample decode_cascade(vec4 t) {
+CascadeSample decode_cascade(mediump vec4 t) {
     CascadeSample s;
-    vec2 nxz = t.rg * 2.0 - 1.0;
+    mediump vec2 nxz = t.rg * 2.0 - 1.0;
     // n.xz / n.y, n.y = sqrt(1 - |n.xz|²) (floored).
     s.slope = nxz * inversesqrt(max(1.0 - dot(nxz, nxz), 0.05));
     s.foam = t.b;
     s.smoothness = t.a;
-    float len = normal_length(t.a);
+    mediump float len = normal_length(t.a);
     s.filtered = max(1.0 / len - 1.0 - g.specular_aa.z, 0.0);
     return s;
 }
 
 // The water at one shading position.
 struct Water {
-    vec3 n;            // shading normal
-    float foam;        // foam coverage
-    float smoothness;  // roughest cascade's smoothness
-    float filtered;    // slope variance filtered out of the normal maps (Toksvig)
+    vec3 n;                    // shading normal
+    mediump float foam;        // foam coverage
+    mediump float smoothness;  // roughest cascade's smoothness
+    mediump float filtered;    // slope variance filtered out of the normal maps (Toksvig)
 };
 
 // The pixel's own sample of every cascade (the hardware's derivatives pick the mips), kept per
@@ -275,8 +283,8 @@ struct PixelCascades {
 // smoothness.
 Water water_of(PixelCascades p, int cascades) {
     Water w;
-    vec2 slope = vec2(0.0);
-    float clear = 1.0;
+    mediump vec2 slope = vec2(0.0);
+    mediump float clear = 1.0;
     w.smoothness = 1.0;
     w.filtered = 0.0;
     UNROLL for (int c = 0; c < MAX_CASCADES; ++c) {
@@ -287,7 +295,10 @@ Water water_of(PixelCascades p, int cascades) {
             w.filtered += p.c[c].filtered;
         }
     }
-    w.n = normalize(vec3(slope.x, 1.0, slope.y));
+    // The normal in full precision: the sun's highlight is narrower than half precision's steps
+    // near 1 (n·h).
+    highp vec3 up = vec3(slope.x, 1.0, slope.y);
+    w.n = normalize(up);
     w.foam = 1.0 - clear;
     return w;
 }
@@ -296,18 +307,18 @@ Water water_of(PixelCascades p, int cascades) {
 // coverage (the area's share foamed), the share of the pixel drawn white, and the share of
 // the bubble plane below that is lit.
 struct Foam {
-    float coverage;
-    float drawn;
-    float bubbles;
+    mediump float coverage;
+    mediump float drawn;
+    mediump float bubbles;
 };
 
 // Reflectance of water averaged over the slopes the normal does not show, a Gaussian of
 // standard deviation σ_v along the view (Bruneton, Neyret & Holzschuch 2010, their fit): at
 // grazing views the slopes turn facets toward the eye, so a rough sea reflects less of the sky
 // than Schlick's flat-surface value. σ_v² = α²/2 for the isotropic lobe of GGX α² `a2`.
-float mean_fresnel(float ndotv, float a2) {
-    float sigma_v = sqrt(0.5 * a2);
-    float f = pow(1.0 - ndotv, 5.0 * exp(-2.69 * sigma_v))
+mediump float mean_fresnel(mediump float ndotv, mediump float a2) {
+    mediump float sigma_v = sqrt(0.5 * a2);
+    mediump float f = pow(1.0 - ndotv, 5.0 * exp(-2.69 * sigma_v))
         / (1.0 + 22.7 * sigma_v * sqrt(sigma_v));
     return WATER_F0 + (1.0 - WATER_F0) * f;
 }
@@ -365,36 +376,43 @@ float sun_highlight(vec3 n, SunView s, float a2) {
 // the light that crossed the thin upper layer), the bubbles below the foam, and the sun through
 // thin crests between the eye and the sun (strongest high on a wave whose back faces the sun),
 // each tinted by the absorption along its path. Dim and smooth: shaded once per pixel.
-vec3 water_body(vec3 n, Foam f, vec3 v, float height) {
-    float ndotv = max(dot(n, v), 1e-3);
-    vec3 l = g.sun.xyz;
-    float grazing = (1.0 - ndotv) * (1.0 - ndotv);
-    vec3 bubbles = BUBBLE_REFLECTANCE * exp(-PURE_WATER_ABSORPTION * 2.0 * BUBBLE_DEPTH);
-    vec3 reflectance = mix(WATER_BODY_REFLECTANCE, WATER_BODY_GRAZING, grazing)
+mediump vec3 water_body(vec3 n_full, Foam f, vec3 v_full, float height) {
+    // Half precision throughout: dim, smooth light.
+    mediump vec3 n = n_full;
+    mediump vec3 v = v_full;
+    mediump float ndotv = max(dot(n, v), 1e-3);
+    mediump vec3 l = g.sun.xyz;
+    mediump vec3 diffuse = g.diffuse.rgb;
+    mediump vec3 sun = g.sun_illuminance.rgb;
+    mediump float grazing = (1.0 - ndotv) * (1.0 - ndotv);
+    const vec3 bubbles = BUBBLE_REFLECTANCE * exp(-PURE_WATER_ABSORPTION * 2.0 * BUBBLE_DEPTH);
+    mediump vec3 reflectance = mix(WATER_BODY_REFLECTANCE, WATER_BODY_GRAZING, grazing)
         + f.bubbles * bubbles;
-    vec3 body = reflectance * g.diffuse.rgb;
-    float crest = clamp(height * g.derived.w, 0.0, 1.0);
-    float behind = max(dot(-v, l), 0.0);
+    mediump vec3 body = reflectance * diffuse;
+    mediump float crest_height = height * g.derived.w;
+    mediump float crest = clamp(crest_height, 0.0, 1.0);
+    mediump float behind = max(dot(-v, l), 0.0);
     behind *= behind;
     behind *= behind;
-    float back_lit = (0.5 - 0.5 * dot(l, n)) * (0.5 - 0.5 * dot(l, n));
-    vec3 crest_tint = WATER_SCATTER_COLOUR * exp(-PURE_WATER_ABSORPTION * CREST_PATH);
-    body += g.sun_illuminance.rgb * (CREST_TRANSMITTANCE / PI * crest * behind * back_lit)
-            * crest_tint;
+    mediump float back = 0.5 - 0.5 * dot(l, n);
+    mediump float back_lit = back * back;
+    const vec3 crest_tint = WATER_SCATTER_COLOUR * exp(-PURE_WATER_ABSORPTION * CREST_PATH);
+    body += sun * (CREST_TRANSMITTANCE / PI * crest * behind * back_lit) * crest_tint;
     return body;
 }
 
 // `surface_light` with the sky's reflected radiance `reflected` given.
-vec3 surface_over(vec3 n, vec3 body, vec3 reflected, SunView sv, float a2) {
-    float fresnel = mean_fresnel(max(dot(n, sv.v), 1e-3), a2);
-    return mix(body, reflected, fresnel) + g.sun_illuminance.rgb * sun_highlight(n, sv, a2);
+vec3 surface_over(vec3 n, mediump vec3 body, mediump vec3 reflected, SunView sv, float a2) {
+    mediump float fresnel = mean_fresnel(max(dot(n, sv.v), 1e-3), a2);
+    mediump vec3 over = mix(body, reflected, fresnel);
+    return over + g.sun_illuminance.rgb * sun_highlight(n, sv, a2);
 }
 
 // The water's surface over its `body` light, seen along `v` with normal `n` and GGX α² `a2`:
 // the sky reflected (from the map level prefiltered for this roughness, the ray kept above the
 // horizon) over the body, weighted by the mean Fresnel; and the sun's highlight. The terms
 // that change fast with the normal: supersampled where the cascades are minified.
-vec3 surface_light(vec3 n, vec3 body, SunView sv, float a2) {
+vec3 surface_light(vec3 n, mediump vec3 body, SunView sv, float a2) {
     vec3 r = reflect(-sv.v, n);
     r.y = abs(r.y);
     return surface_over(n, body, sky_env(r, sqrt(sqrt(a2))), sv, a2);
@@ -411,11 +429,11 @@ vec3 with_foam(vec3 colour, Foam f) {
 // pixel's sample `p`. `unshown`: the slope variance every sub-sample adds to its filtered one
 // (unresolved waves, the footprint's normal change).
 vec3 supersampled_surface(PixelCascades p, int cascades, bool resample[MAX_CASCADES], vec2 dx,
-                          vec2 dy, vec3 body, vec3 reflected, vec3 own, SunView sv,
-                          float unshown, float coverage) {
+                          vec2 dy, mediump vec3 body, mediump vec3 reflected, vec3 own,
+                          SunView sv, float unshown, mediump float coverage) {
     vec2 hx = dx * (1.0 / 3.0);
     vec2 hy = dy * (1.0 / 3.0);
-    vec2 pixel_slope = vec2(0.0);
+    mediump vec2 pixel_slope = vec2(0.0);
     UNROLL for (int c = 0; c < MAX_CASCADES; ++c) {
         if (c < cascades) {
             pixel_slope += p.c[c].slope;
@@ -425,15 +443,15 @@ vec3 supersampled_surface(PixelCascades p, int cascades, bool resample[MAX_CASCA
     vec3 sum = own;
     UNROLL_SUBSAMPLES for (int i = 0; i < SUBSAMPLE_COUNT; ++i) {
         vec2 xz = v_xz + SUBSAMPLES[i].x * dx + SUBSAMPLES[i].y * dy;
-        vec2 slope = pixel_slope;
-        float smoothness = 1.0;
-        float filtered = 0.0;
+        mediump vec2 slope = pixel_slope;
+        mediump float smoothness = 1.0;
+        mediump float filtered = 0.0;
         UNROLL for (int c = 0; c < MAX_CASCADES; ++c) {
             if (c < cascades) {
                 CascadeSample s = p.c[c];
                 if (resample[c]) {
                     float inv_size = g.inv_patch_size[c];
-                    vec4 t = textureGrad(u_normal_foam,
+                    mediump vec4 t = textureGrad(u_normal_foam,
                                          vec3(xz * inv_size + half_texel, float(c)),
                                          hx * inv_size, hy * inv_size);
                     s = decode_cascade(t);
@@ -443,7 +461,8 @@ vec3 supersampled_surface(PixelCascades p, int cascades, bool resample[MAX_CASCA
                 filtered += s.filtered;
             }
         }
-        vec3 n = normalize(vec3(slope.x, 1.0, slope.y));
+        highp vec3 up = vec3(slope.x, 1.0, slope.y);
+        vec3 n = normalize(up);
         float a2 = sample_a2(smoothness, filtered + unshown, coverage);
         sum += surface_over(n, body, reflected, sv, a2);
     }
@@ -482,8 +501,8 @@ void main() {
         }
     }
     Water w = water_of(p, cascades);
-    vec3 dndx = dFdx(w.n);
-    vec3 dndy = dFdy(w.n);
+    mediump vec3 dndx = dFdx(w.n);
+    mediump vec3 dndy = dFdy(w.n);
     vec2 finest_uv = v_xz * g.inv_patch_size[cascades - 1] + half_texel;
     float lod = textureQueryLod(u_normal_foam, finest_uv).x;
 
@@ -503,12 +522,12 @@ void main() {
 
     vec3 colour;
     SunView sv = sun_view(v);
-    vec3 body = water_body(w.n, f, v, height);
+    mediump vec3 body = water_body(w.n, f, v, height);
     if (TAKES_PLAIN(g.specular_aa.y < 0.5)) {
         COUNT(COUNT_PLAIN, 1u);
         colour = surface_light(w.n, body, sv, sample_a2(w.smoothness, -1.0, f.coverage));
     } else {
-        float kernel = min(2.0 * PIXEL_VARIANCE * (dot(dndx, dndx) + dot(dndy, dndy)),
+        mediump float kernel = min(2.0 * PIXEL_VARIANCE * (dot(dndx, dndx) + dot(dndy, dndy)),
                            MAX_KERNEL_ALPHA2);
         // The slopes no cascade shows (the observed total's remainder, `sim::spectrum::
         // unresolved_slope_variance`) roughen every sample, near or far.
@@ -531,7 +550,7 @@ void main() {
             float a2 = sample_a2(w.smoothness, w.filtered + tail + kernel, f.coverage);
             vec3 r = reflect(-v, w.n);
             r.y = abs(r.y);
-            vec3 reflected = sky_env(r, sqrt(sqrt(a2)));
+            mediump vec3 reflected = sky_env(r, sqrt(sqrt(a2)));
             vec3 own = surface_over(w.n, body, reflected, sv, a2);
             colour = supersampled_surface(p, cascades, resample, dx, dy, body, reflected, own,
                                           sv, tail + kernel * (1.0 / 9.0), f.coverage);
@@ -545,7 +564,7 @@ void main() {
 
     // Fog to the sky at the horizon, looked up only where it shows (more than a fifth of a
     // percent: under half a code of the 8-bit image; the near water of most views has none).
-    float fog = 1.0 - exp(-dist * g.params.z);
+    mediump float fog = 1.0 - exp(-dist * g.params.z);
     if (fog > 0.002) {
         colour = mix(colour, fog_colour(-v), fog);
     }

@@ -15,16 +15,15 @@ use vr_ocean::xr::openxr::quest::Headset;
 const GATE: f64 = budget::GATE_SHARE;
 
 /// The views whose estimate does not meet the goal yet (issue 28 is open on them), each with a
-/// ceiling: its estimate when the cheaper water shading landed, plus 5 points, so that it can
-/// only get better. Measured with this test (`target/gpu-budget.json`): Quest 2 horizon 92 %,
-/// glitter 88 %, down 83 %, high 134 %; Quest 3 high 95 % (after issue 29's spreading: 94, 90,
-/// 82, 134 and 95 %). Remove a line once its view meets the goal.
-const NOT_YET: [(&str, &str, f64); 5] = [
-    ("Quest 2", "horizon", 0.97),
-    ("Quest 2", "glitter", 0.93),
-    ("Quest 2", "down", 0.88),
-    ("Quest 2", "high", 1.39),
-    ("Quest 3", "high", 1.00),
+/// ceiling: its latest estimate plus 5 points, so that it can only get better. Measured with
+/// `vr-ocean gpu-budget` after the half-precision arithmetic (lavapipe, Zen 5): Quest 2
+/// horizon 79 %, glitter 76 %, high 113 %; Quest 3 high 80 % (Quest 2 down, 69 %, now meets
+/// it). Remove a line once its view meets the goal.
+const NOT_YET: [(&str, &str, f64); 4] = [
+    ("Quest 2", "horizon", 0.84),
+    ("Quest 2", "glitter", 0.81),
+    ("Quest 2", "high", 1.18),
+    ("Quest 3", "high", 0.85),
 ];
 
 #[test]

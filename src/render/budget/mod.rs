@@ -43,6 +43,9 @@ pub struct GpuFigures {
     pub name: &'static str,
     /// FP32 operations per second the shader cores issue at the clock used (lanes × clock).
     pub alu_per_s: f64,
+    /// How many FP16 operations the cores issue in the time of one FP32 operation: what a
+    /// `mediump` (RelaxedPrecision) operation costs is `1 / fp16_rate` of a full one.
+    pub fp16_rate: f64,
     /// Trilinear texture samples per second at that clock.
     pub samples_per_s: f64,
     /// DRAM bandwidth (bytes/s) the resolved eye images are stored through.
@@ -102,14 +105,15 @@ impl HeadsetModel {
     }
 }
 
-/// Quest 2: Adreno 650 (512 FP32 lanes) at 490 MHz (GPU level 3, Meta's CPU and GPU levels
-/// page), 32 bilinear texels a clock (16 trilinear), LPDDR4X at 34 GB/s; 1440 × 1584 eye
+/// Quest 2: Adreno 650 (512 FP32 lanes, FP16 at twice the rate) at 490 MHz (GPU level 3, Meta's
+/// CPU and GPU levels page), 32 bilinear texels a clock (16 trilinear), LPDDR4X at 34 GB/s; 1440 × 1584 eye
 /// buffers at 72 Hz, MSAA 4, high foveation, the medium preset.
 pub const QUEST_2: HeadsetModel = HeadsetModel {
     name: "Quest 2",
     gpu: GpuFigures {
         name: "Adreno 650 @ 490 MHz",
         alu_per_s: 512.0 * 490e6,
+        fp16_rate: 2.0,
         samples_per_s: 16.0 * 490e6,
         bytes_per_s: 34.1e9,
     },
@@ -129,6 +133,7 @@ pub const QUEST_3: HeadsetModel = HeadsetModel {
     gpu: GpuFigures {
         name: "Adreno 740 @ 599 MHz",
         alu_per_s: 2.5 * 512.0 * 587e6,
+        fp16_rate: 2.0,
         samples_per_s: 2.5 * 16.0 * 587e6,
         bytes_per_s: 51.2e9,
     },
@@ -286,8 +291,8 @@ pub struct ViewEstimate {
     pub invocations_per_pixel: f64,
     /// Share of water fragments whose highlight was supersampled.
     pub supersampled_share: f64,
-    /// ALU issue slots per pixel (special operations weighted by [`SPECIAL_COST`]), after
-    /// foveation.
+    /// ALU issue slots per pixel (special operations weighted by [`SPECIAL_COST`], relaxed-
+    /// precision ones by 1 / [`GpuFigures::fp16_rate`]), after foveation.
     pub alu_per_pixel: f64,
     /// Texture samples per pixel, after foveation.
     pub samples_per_pixel: f64,
@@ -315,7 +320,11 @@ pub fn estimate(
     costs: &PathCosts,
     counts: &PathCounts,
 ) -> ViewEstimate {
-    let slots = |c: InstructionCounts| c.alu as f64 + SPECIAL_COST * c.special as f64;
+    let gpu = &headset.gpu;
+    let slots = |c: InstructionCounts| {
+        let relaxed = c.relaxed.min(c.alu) as f64;
+        (c.alu as f64 - relaxed) + relaxed / gpu.fp16_rate + SPECIAL_COST * c.special as f64
+    };
     let n = |x: u64| x as f64;
     let paths = [
         (n(counts.sky), costs.sky),
@@ -328,7 +337,6 @@ pub fn estimate(
     let kept = 1.0 - headset.foveation.saving();
     let alu: f64 = paths.iter().map(|(k, c)| k * slots(*c)).sum::<f64>() * kept;
     let samples: f64 = paths.iter().map(|(k, c)| k * c.samples as f64).sum::<f64>() * kept;
-    let gpu = &headset.gpu;
     let vertex_ms =
         1e3 * VERTEX_PASSES * n(counts.vertex_invocations) * slots(costs.vertex) / gpu.alu_per_s;
     let alu_ms = 1e3 * alu / (gpu.alu_per_s * UTILIZATION);

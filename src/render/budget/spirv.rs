@@ -9,14 +9,24 @@
 //! component of its result; moves, loads, composites and phis count nothing (registers);
 //! `abs` and negation count nothing (source modifiers on mobile GPUs). A module that still has
 //! a loop or a call is refused: its count would not be per invocation.
+//!
+//! Operations in relaxed precision (GLSL `mediump`) are counted apart ([`InstructionCounts::
+//! relaxed`]): those decorated `RelaxedPrecision`, and those all of whose non-constant operands
+//! are relaxed (GLSL's rule: an operation takes the highest precision of its operands). The
+//! second rule restores what `spirv-opt`'s loop unroller drops: it decorates only the first
+//! copy of an unrolled body (SPIRV-Tools issue 5902, fixed after the Debian packages we use);
+//! the pipeline's own shader is not unrolled by spirv-opt, so its driver sees every decoration.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 /// What one invocation costs.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct InstructionCounts {
     /// Scalar FP32/integer operations (one per component; an FMA is one).
     pub alu: u32,
+    /// Of `alu`, those whose result is decorated `RelaxedPrecision` (GLSL `mediump`): a GPU
+    /// with native FP16 (Adreno) may run them at half precision, at twice the FP32 rate.
+    pub relaxed: u32,
     /// Special-function operations: reciprocal (of a division), square root, inverse square
     /// root, exp2, log2, sin, cos (one per component).
     pub special: u32,
@@ -31,6 +41,7 @@ impl InstructionCounts {
     pub fn minus(self, base: InstructionCounts) -> InstructionCounts {
         InstructionCounts {
             alu: self.alu.saturating_sub(base.alu),
+            relaxed: self.relaxed.saturating_sub(base.relaxed),
             special: self.special.saturating_sub(base.special),
             samples: self.samples.saturating_sub(base.samples),
             branches: self.branches.saturating_sub(base.branches),
@@ -62,15 +73,27 @@ impl std::fmt::Display for CountError {
 impl std::error::Error for CountError {}
 
 const MAGIC: u32 = 0x0723_0203;
+/// The `RelaxedPrecision` decoration.
+const RELAXED_PRECISION: u32 = 0;
 
 mod op {
+    pub const UNDEF: u16 = 1;
     pub const EXT_INST_IMPORT: u16 = 11;
+    pub const DECORATE: u16 = 71;
     pub const EXT_INST: u16 = 12;
     pub const TYPE_BOOL: u16 = 20;
     pub const TYPE_INT: u16 = 21;
     pub const TYPE_FLOAT: u16 = 22;
     pub const TYPE_VECTOR: u16 = 23;
     pub const TYPE_MATRIX: u16 = 24;
+    pub const CONSTANT_FIRST: u16 = 41; // OpConstantTrue
+    pub const CONSTANT_LAST: u16 = 51; // OpSpecConstantOp
+    pub const LOAD: u16 = 61;
+    pub const VECTOR_SHUFFLE: u16 = 79;
+    pub const COMPOSITE_EXTRACT: u16 = 81;
+    pub const COMPOSITE_INSERT: u16 = 82;
+    pub const SELECT: u16 = 169;
+    pub const PHI: u16 = 245;
     pub const FUNCTION_CALL: u16 = 57;
     pub const IMAGE_SAMPLE_FIRST: u16 = 87; // OpImageSampleImplicitLod
     pub const IMAGE_SAMPLE_LAST: u16 = 97; // OpImageDrefGather
@@ -134,6 +157,10 @@ pub fn count(words: &[u32]) -> Result<InstructionCounts, CountError> {
     let mut components: HashMap<u32, u32> = HashMap::new();
     let mut result_type: HashMap<u32, u32> = HashMap::new();
     let mut glsl_set = None;
+    // Ids decorated or derived RelaxedPrecision (decorations precede the functions in a
+    // module), and ids that carry no precision (constants, undefined values).
+    let mut relaxed: HashSet<u32> = HashSet::new();
+    let mut constants: HashSet<u32> = HashSet::new();
     let mut counts = InstructionCounts::default();
     let mut at = 5;
     while at < words.len() {
@@ -163,6 +190,16 @@ pub fn count(words: &[u32]) -> Result<InstructionCounts, CountError> {
                 components.insert(ins[1], inner * ins[3]);
                 continue;
             }
+            op::DECORATE if len >= 3 => {
+                if ins[2] == RELAXED_PRECISION {
+                    relaxed.insert(ins[1]);
+                }
+                continue;
+            }
+            op::UNDEF | op::CONSTANT_FIRST..=op::CONSTANT_LAST if len >= 3 => {
+                constants.insert(ins[2]);
+                continue;
+            }
             op::LOOP_MERGE => return Err(CountError::NotStraightLine("a loop")),
             op::FUNCTION_CALL => return Err(CountError::NotStraightLine("a function call")),
             op::BRANCH_CONDITIONAL | op::SWITCH => {
@@ -178,6 +215,7 @@ pub fn count(words: &[u32]) -> Result<InstructionCounts, CountError> {
         let n = |id: u32| components.get(&id).copied().unwrap_or(1);
         let (ty, id) = (ins[1], ins[2]);
         let width = n(ty);
+        let alu_before = counts.alu;
         match code {
             op::IMAGE_SAMPLE_FIRST..=op::IMAGE_SAMPLE_LAST | op::IMAGE_QUERY_LOD => {
                 counts.samples += 1;
@@ -216,11 +254,63 @@ pub fn count(words: &[u32]) -> Result<InstructionCounts, CountError> {
             }
             _ => {}
         }
+        if !relaxed.contains(&id) && derives_relaxed(code, ins, &relaxed, &constants) {
+            relaxed.insert(id);
+        }
+        if relaxed.contains(&id) {
+            counts.relaxed += counts.alu - alu_before;
+        }
         if has_result_type(code) {
             result_type.insert(id, ty);
         }
     }
     Ok(counts)
+}
+
+/// Whether the value of instruction `ins` (opcode `code`) is in relaxed precision by GLSL's rule:
+/// it has operands that carry a precision, and all of them are relaxed.
+fn derives_relaxed(
+    code: u16,
+    ins: &[u32],
+    relaxed: &HashSet<u32>,
+    constants: &HashSet<u32>,
+) -> bool {
+    if !has_result_type(code) {
+        return false;
+    }
+    // The words that are value operands (not literals: an extended instruction's set and
+    // number, an extract's indices, a shuffle's components; a sample's coordinates do not set
+    // its precision, its sampler does).
+    let operands = match code {
+        op::EXT_INST => &ins[5.min(ins.len())..],
+        op::VECTOR_SHUFFLE => &ins[3..5.min(ins.len())],
+        op::COMPOSITE_EXTRACT
+        | op::LOAD
+        | op::IMAGE_SAMPLE_FIRST..=op::IMAGE_SAMPLE_LAST
+        | op::IMAGE_QUERY_LOD => &ins[3..4.min(ins.len())],
+        op::COMPOSITE_INSERT => &ins[3..5.min(ins.len())],
+        // A selection's precision is its values', not its condition's.
+        op::SELECT => &ins[4.min(ins.len())..],
+        // A phi's operands alternate value and block.
+        op::PHI => {
+            let values: Vec<u32> = ins[3..].iter().step_by(2).copied().collect();
+            return all_relaxed(&values, relaxed, constants);
+        }
+        _ => &ins[3..],
+    };
+    all_relaxed(operands, relaxed, constants)
+}
+
+/// Some of `ids` carry a precision, and every one of those is relaxed.
+fn all_relaxed(ids: &[u32], relaxed: &HashSet<u32>, constants: &HashSet<u32>) -> bool {
+    let mut any = false;
+    for id in ids.iter().filter(|id| !constants.contains(id)) {
+        if !relaxed.contains(id) {
+            return false;
+        }
+        any = true;
+    }
+    any
 }
 
 /// Whether instructions of opcode `code` start with (result type, result id): the values the
@@ -229,7 +319,7 @@ fn has_result_type(code: u16) -> bool {
     matches!(
         code,
         op::EXT_INST
-            | 61 // OpLoad
+            | op::LOAD
             | 79..=83 // OpVectorShuffle, OpCompositeConstruct/Extract/Insert, OpCopyObject
             | op::IMAGE_SAMPLE_FIRST..=op::IMAGE_SAMPLE_LAST
             | op::IMAGE_QUERY_LOD
@@ -237,7 +327,7 @@ fn has_result_type(code: u16) -> bool {
             | op::S_NEGATE..=op::DOT
             | op::RELATIONAL_FIRST..=op::RELATIONAL_LAST
             | op::DERIVATIVE_FIRST..=op::DERIVATIVE_LAST
-            | 245 // OpPhi
+            | op::PHI
     )
 }
 
@@ -299,6 +389,12 @@ mod tests {
         assert_eq!(foam.samples, single.samples + 3);
         assert!(plain.alu < single.alu);
         assert!(vertex.samples >= 3 && vertex.alu > 20);
+        // Half the water's arithmetic is in relaxed precision (mediump: the body, foam, the
+        // Fresnel weight, the tone map); positions and the vertex shader stay in full.
+        for path in [sky, single, super0, foam, plain] {
+            assert!(path.relaxed * 5 >= path.alu * 2, "{path:?}");
+        }
+        assert_eq!(vertex.relaxed, 0);
     }
 
     #[test]
@@ -329,5 +425,50 @@ mod tests {
         let c = count(&words).unwrap();
         assert_eq!(c.alu, 3 + 5 + 3);
         assert_eq!(c.special, 3);
+        assert_eq!(c.relaxed, 0);
+        // The multiply's result (id 10) and the divide's (14) decorated relaxed: their ALU
+        // operations (not the divide's reciprocals) count as relaxed, and so does the dot of
+        // two relaxed values (GLSL's rule), but not a dot with an operand in full precision.
+        let relax = |id| [(3 << 16) | op::DECORATE as u32, id, RELAXED_PRECISION];
+        let words: Vec<u32> = [
+            &header[..],
+            &relax(10),
+            &relax(14),
+            &float,
+            &vec3,
+            &mul,
+            &dot,
+            &div,
+        ]
+        .concat();
+        let c = count(&words).unwrap();
+        assert_eq!((c.alu, c.special, c.relaxed), (11, 3, 3 + 5 + 3));
+        let mixed = [(5 << 16) | op::DOT as u32, 1, 13, 10, 11];
+        let words: Vec<u32> = [
+            &header[..],
+            &relax(10),
+            &relax(14),
+            &float,
+            &vec3,
+            &mul,
+            &mixed,
+            &div,
+        ]
+        .concat();
+        assert_eq!(count(&words).unwrap().relaxed, 3 + 3);
+        // A constant operand carries no precision: relaxed × constant stays relaxed.
+        let constant = [(4 << 16) | 43, 1, 20, 0x3f80_0000];
+        let scale = [(5 << 16) | op::VECTOR_TIMES_SCALAR as u32, 2, 21, 10, 20];
+        let words: Vec<u32> = [
+            &header[..],
+            &relax(10),
+            &float,
+            &vec3,
+            &constant,
+            &mul,
+            &scale,
+        ]
+        .concat();
+        assert_eq!(count(&words).unwrap().relaxed, 3 + 3);
     }
 }
