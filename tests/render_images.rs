@@ -109,6 +109,7 @@ fn eyes_differ_by_the_parallax_their_poses_predict() {
         elevation_deg: 55.0,
         azimuth_deg: -90.0,
         turbidity: 2.5,
+        clouds: 0.0,
     };
     let (_, frames) = gpu::render(&opts, path, 9, 480, 480);
     let f = &frames[0];

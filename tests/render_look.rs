@@ -221,6 +221,7 @@ fn the_glint_widens_with_the_wind() {
                 elevation_deg: 25.0,
                 azimuth_deg,
                 turbidity: 2.5,
+                clouds: 0.0,
             };
             shots.push(render(&opts, 0.0, -25.0));
         }

@@ -220,6 +220,10 @@ pub struct ViewArgs {
     /// Atmospheric turbidity (1.7 very clear to 10 hazy; 2-3 clear maritime air) [default: 2.5].
     #[arg(long, allow_negative_numbers = true)]
     pub turbidity: Option<f32>,
+    /// Share of the sky covered by cloud (0 clear to 1 overcast; baked into the sky the sea
+    /// reflects) [default: 0].
+    #[arg(long, allow_negative_numbers = true)]
+    pub clouds: Option<f32>,
     /// GPU-time governor: steps quality down (supersampling, foveation, render scale, LOD
     /// preset) when the GPU pass exceeds 0.8 of the budget, back up with headroom [default:
     /// on for xr; off for window and headless, where a CPU Vulkan device is over any budget].
@@ -327,6 +331,7 @@ impl ViewArgs {
             elevation_deg: self.sun_elevation.unwrap_or(d.elevation_deg),
             azimuth_deg: self.sun_azimuth.unwrap_or(d.azimuth_deg),
             turbidity: self.turbidity.unwrap_or(d.turbidity),
+            clouds: self.clouds.unwrap_or(d.clouds),
         };
         sun.validate()?;
         Ok(sun)

@@ -12,8 +12,8 @@
 //! - [`pipeline`]: the stereo render pass and the ocean and sky pipelines.
 //! - [`camera`]: reversed-Z projections and the uniform block.
 //! - [`ocean`]: the per-frame renderer.
-//! - [`sky`]: the analytic sky (Preetham) and its prefiltered environment map, baked on the
-//!   CPU when the sun changes.
+//! - [`sky`]: the sky (a scattering atmosphere and a cloud layer) and its prefiltered
+//!   environment map, baked on the CPU when the sun, haze or clouds change.
 //! - [`tonemap`]: the shaders' tone curve (Khronos PBR Neutral) and the sRGB encoding, for
 //!   tests to check the GPU against.
 //! - [`readback`]: copies a rendered array image to the CPU (screenshots, tests).

@@ -80,7 +80,7 @@ pub struct RendererSettings {
     pub whitecaps: bool,
     /// Frames the CPU may record ahead of the GPU (≥ 2); also the staging ring's slot count.
     pub frames_in_flight: usize,
-    /// The sun and the air: the Preetham sky drawn, reflected and fogged with, the sun's light
+    /// The sun, the air and the clouds: the sky drawn, reflected and fogged with, the sun's light
     /// and the exposure all follow from it.
     pub sun: SunSky,
     /// Distance (m) over which fog reaches 63% (exp(−d/fog)).
@@ -126,6 +126,7 @@ pub fn default_sun() -> SunSky {
         elevation_deg: d.y.asin().to_degrees(),
         azimuth_deg: d.z.atan2(d.x).to_degrees(),
         turbidity: 2.5,
+        clouds: 0.0,
     }
 }
 

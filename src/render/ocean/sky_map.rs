@@ -1,4 +1,4 @@
-//! The sky the pass draws, reflects and fogs with: the Preetham sky ([`crate::render::sky`])
+//! The sky the pass draws, reflects and fogs with: the atmosphere and clouds ([`crate::render::sky`])
 //! baked on the CPU into a GGX-prefiltered environment map (RGBA16F, one mip per roughness)
 //! and uploaded once, with the sun's and the sky's light and the exposure the shaders scale by.
 //! Made when the renderer is (and again when the sun moves): never per frame.
@@ -12,14 +12,15 @@ use crate::render::error::RenderError;
 use crate::render::memory::{Image, ImageDesc};
 use crate::render::sky::{self, EnvMap, Sky, SunSky, SUN_ANGULAR_RADIUS_DEG};
 
-/// Level 0 of the environment map: texels along the azimuth (diamond-angle spaced: 2π/160 at
-/// the diagonals, π/160 at the axes, no coarser than the 2π/128 of the earlier atan2 map)...
-pub const ENV_WIDTH: u32 = 160;
-/// ...and from the horizon to the zenith (square-root spaced, the horizon finest; 64 keeps two
+/// Level 0 of the environment map: texels along the azimuth (diamond-angle spaced: 2π/320 at
+/// the diagonals, π/320 at the axes; the sky seen directly reads level 0, and clouds' edges
+/// need the detail: at 160 they showed the texels)...
+pub const ENV_WIDTH: u32 = 320;
+/// ...and from the horizon to the zenith (square-root spaced, the horizon finest; 128 keeps two
 /// rows in the roughest level).
-pub const ENV_HEIGHT: u32 = 64;
-/// Levels: roughness 0, 0.2, ..., 1.
-pub const ENV_LEVELS: u32 = 6;
+pub const ENV_HEIGHT: u32 = 128;
+/// Levels: roughness 0, 1/6, ..., 1.
+pub const ENV_LEVELS: u32 = 7;
 
 /// The light the shaders need besides the map (absolute units: kcd/m², klux).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -290,6 +290,7 @@ mod tests {
             elevation_deg,
             azimuth_deg,
             turbidity: 2.5,
+            clouds: 0.0,
         })
     }
 
@@ -367,6 +368,48 @@ mod tests {
         assert_eq!(map.roughness(5), 1.0);
         assert_eq!(EnvMap::new(4, 2, 10).levels.len(), 3);
         assert_eq!(EnvMap::new(0, 0, 0).levels.len(), 1);
+    }
+
+    #[test]
+    fn clouds_add_detail_that_the_prefilter_smooths() {
+        let cloudy = Sky::new(&SunSky {
+            elevation_deg: 40.0,
+            azimuth_deg: 75.0,
+            turbidity: 2.5,
+            clouds: 0.5,
+        });
+        let start = std::time::Instant::now();
+        let map = bake(&cloudy, 320, 128, 7);
+        println!(
+            "bake 320x128x7 with clouds 0.5: {:.1} ms",
+            start.elapsed().as_secs_f64() * 1e3
+        );
+        let clear = bake(&sky(40.0, 75.0), 320, 128, 7);
+        let (_, cv_cloudy) = stats(&map, 0);
+        let (_, cv_clear) = stats(&clear, 0);
+        let (_, cv_rough) = stats(&map, 6);
+        println!(
+            "level 0 cv: clear {cv_clear:.3}, cloudy {cv_cloudy:.3}; cloudy level 6 {cv_rough:.3}"
+        );
+        assert!(cv_rough < 0.5 * cv_cloudy, "{cv_rough} vs {cv_cloudy}");
+        // Half the sky cloud: cloud edges against the blue make neighbouring texels differ far
+        // more than the clear sky's smooth gradients (its sun glow included).
+        let spread = |m: &EnvMap| {
+            let level = &m.levels[0];
+            let lum = |i: usize| LUMINANCE.dot(Vec3::new(level[i][0], level[i][1], level[i][2]));
+            let (mut change, mut total) = (0.0f32, 0.0f32);
+            for i in level.len() / 4..level.len() - 1 {
+                change += (lum(i + 1) - lum(i)).abs();
+                total += lum(i);
+            }
+            change / total
+        };
+        assert!(
+            spread(&map) > 1.5 * spread(&clear),
+            "{} vs {}",
+            spread(&map),
+            spread(&clear)
+        );
     }
 
     #[test]
