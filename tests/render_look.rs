@@ -1,6 +1,6 @@
 //! The sea's look in linear HDR (issue 14), on lavapipe with the validation layer required:
 //! the tone curve and the sRGB store (a grey ramp reads back as `render::tonemap` says: no
-//! double gamma), the Preetham sky drawn, reflected and fogged from one map (no black or NaN
+//! double gamma), the sky drawn, reflected and fogged from one map (no black or NaN
 //! pixel, the water darker than the sky, no seam at the horizon, almost nothing clipped
 //! outside the sun's glint), and a glint that widens with the wind.
 
@@ -68,7 +68,7 @@ fn a_grey_ramp_reads_back_through_the_tone_curve() {
 }
 
 #[test]
-fn the_sea_under_the_preetham_sky_is_clean() {
+fn the_sea_under_a_clear_sky_is_clean() {
     let opts = options(10.0);
     let sun = opts.renderer.sun.sun_direction();
     let f = render(&opts, 0.0, -6.0);
@@ -167,14 +167,17 @@ fn the_sea_under_the_preetham_sky_is_clean() {
 
 /// Width and height (px, 5th to 95th percentile of the region) of the sun's glint: where the
 /// brightness the sun adds to the water (`ahead` minus `behind`, the same view with the sun
-/// behind, from 4 rows below the horizon down), box-blurred over 9 × 9 px against single
-/// sparkles, is at least half its peak. Averaged over both eyes.
+/// behind), box-blurred over 9 × 9 px against single sparkles, is at least half its peak.
+/// Measured from a sixth of the water's height below the horizon down: the rows above it
+/// mirror the sky's bright aureole around the sun (issue 29's atmosphere), which saturates the
+/// tone map whatever the wind. Averaged over both eyes.
 fn glint_extent(ahead: &Frame, behind: &Frame) -> (f64, f64) {
     const R: i32 = 4;
     let (w, h) = (W as i32, H as i32);
     let (mut width, mut height) = (0.0, 0.0);
     for eye in 0..2 {
-        let water = (ahead.horizon_row(eye) + 4.0).max(0.0) as i32;
+        let horizon = ahead.horizon_row(eye).max(0.0) as i32;
+        let water = horizon + 4 + (h - horizon) / 6;
         let excess = |x: i32, y: i32| -> f64 {
             let (x, y) = (x.clamp(0, w - 1) as u32, y.clamp(water, h - 1) as u32);
             (luma(ahead.pixel(eye, x, y)) - luma(behind.pixel(eye, x, y))).max(0.0) as f64

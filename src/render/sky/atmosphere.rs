@@ -20,8 +20,9 @@
 //!   with the open ocean's Ångström exponent 0.6 (sea salt's coarse particles: the Maritime
 //!   Aerosol Network measures 0.3-0.7 over the open sea, Smirnov et al. 2011; Preetham's 1.3 is
 //!   continental haze's and reddened the sun and the hazy horizon), scale height 1.2 km, single-
-//!   scattering albedo 0.9 and Cornette-Shanks phase with g = 0.8 (Hillaire 2020: 3.996 / 4.40
-//!   per Mm; maritime aerosol asymmetry 0.7-0.8).
+//!   scattering albedo 0.9 (Hillaire 2020: 3.996 / 4.40 per Mm) and Cornette-Shanks phase with
+//!   g = 0.72 (AERONET's oceanic sites: asymmetry 0.68-0.75 over the visible, Dubovik et al.
+//!   2002; Bruneton's 0.76 and Hillaire's 0.8 are continental).
 //! - Ozone: absorption (0.650, 1.881, 0.085) per Mm at its peak (Hillaire 2020, given at 680 /
 //!   550 / 440 nm and used for our three channels as they are), a tent 30 km wide around 25 km.
 //! - The sun above the atmosphere: 127.5 klux (IES), the chromaticity of a 5778 K black body.
@@ -60,7 +61,7 @@ const MIE_HEIGHT: f32 = 1_200.0;
 /// Aerosol single-scattering albedo.
 const MIE_ALBEDO: f32 = 0.9;
 /// Aerosol phase asymmetry (Cornette-Shanks g).
-const MIE_G: f32 = 0.8;
+const MIE_G: f32 = 0.72;
 /// Ozone absorption at its peak (1/m).
 const OZONE_ABSORPTION: Vec3 = Vec3::new(0.650e-6, 1.881e-6, 0.085e-6);
 /// Ozone layer centre and half-width (m).

@@ -11,7 +11,8 @@
 //!   diffuse light under it, attenuated by the clear atmosphere.
 //!
 //! An overcast deck of optical thickness 30 (stratus: 10-40) lets through ~17 % of the light;
-//! its zenith luminance at a 35° sun is ~5 kcd/m² (measured overcast skies: 2-8).
+//! its zenith luminance at a 35° sun is ~6 kcd/m² (measured overcast skies: 2-8), its horizon
+//! about half that (the CIE overcast sky: a third).
 
 use glam::{Vec2, Vec3};
 
@@ -123,7 +124,12 @@ impl CloudLayer {
         let nu = d.dot(self.sun);
         let edge = self.sun_at_layer * henyey_greenstein(nu, EDGE_G) * tau * (-tau).exp();
         let behind = clear * (Vec3::ONE - before.min(Vec3::ONE)) * (-tau).exp();
-        let cloud = self.diffuse(tau_v) + edge * self.mu_sun.max(0.0).sqrt() + behind;
+        // A thick cloud's base is brighter overhead than toward the horizon: diffusion's
+        // transmitted radiance goes as 1 + 3/2 μ (Eddington), (1 + 1.5 μ) / 2 of the mean
+        // (its cosine-weighted mean is 1: the light through the deck is kept); a thin one
+        // transmits as it is lit.
+        let limb = 1.0 + (-tau_v).exp_m1().abs() * (0.5 + 0.75 * d.y.max(0.0) - 1.0);
+        let cloud = self.diffuse(tau_v) * limb + edge * self.mu_sun.max(0.0).sqrt() + behind;
         air + front * cloud
     }
 
