@@ -50,6 +50,15 @@ fn bad_sizes_frames_and_captures_are_rejected() {
         &["size", "256"],
     );
     assert_rejected(&["headless", "--threads", "0", "--out", out], &["threads"]);
+    // The sky's cloud cover is a share of the sky.
+    assert_rejected(
+        &["headless", "--clouds", "1.5", "--out", out],
+        &["clouds", "[0, 1]"],
+    );
+    assert_rejected(
+        &["headless", "--clouds", "-0.1", "--out", out],
+        &["clouds", "[0, 1]"],
+    );
     assert_rejected(&["headless", "--grid", "100", "--out", out], &["grid"]);
 }
 

@@ -300,26 +300,3 @@ mod tests {
         }
     }
 }
-#[cfg(test)]
-mod probe {
-    use super::super::direction_at;
-    use super::*;
-    #[test]
-    fn probe_horizon_profile() {
-        for (e_sun, t) in [(17.5, 2.5), (60.0, 2.5), (1.5, 4.0)] {
-            let s = Sky::new(&SunSky {
-                elevation_deg: e_sun,
-                azimuth_deg: 0.0,
-                turbidity: t,
-                clouds: 0.0,
-            });
-            for a in [0.0, 90.0, 180.0] {
-                let row: Vec<String> = [0.0f32, 0.5, 1.0, 2.0, 3.0, 5.0, 10.0, 20.0]
-                    .iter()
-                    .map(|&e| format!("{:.2}", LUMINANCE.dot(s.radiance(direction_at(e, a)))))
-                    .collect();
-                println!("sun {e_sun} az {a}: {}", row.join(" "));
-            }
-        }
-    }
-}
