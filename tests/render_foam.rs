@@ -147,3 +147,59 @@ fn the_white_area_is_the_simulated_coverage() {
         "a breeze drawn whiter than its coverage: {rows:?}"
     );
 }
+
+/// Of the pixels foam whitens visibly (at least 30 % of the way from the water without it to
+/// fully foamed white, the 99th percentile of the gain: above what the bubbles alone add), the
+/// share that is partial (30-70 % of the way): soft edges and thin foam, not paint chips.
+fn partial_share(with: &Frame, without: &Frame) -> (f64, usize) {
+    let mut gains = Vec::new();
+    for eye in 0..2 {
+        for y in 0..with.height {
+            for x in 0..with.width {
+                let sum = |f: &Frame| {
+                    f.pixel(eye, x, y)[..3]
+                        .iter()
+                        .map(|&c| c as i32)
+                        .sum::<i32>()
+                };
+                gains.push((sum(with) - sum(without)).max(0) as f64);
+            }
+        }
+    }
+    let mut sorted: Vec<f64> = gains.iter().copied().filter(|&g| g > 30.0).collect();
+    sorted.sort_by(f64::total_cmp);
+    let white = sorted[sorted.len() * 99 / 100];
+    let foamed = gains.iter().filter(|&&g| g >= 0.3 * white).count();
+    let partial = gains
+        .iter()
+        .filter(|&&g| (0.3 * white..=0.7 * white).contains(&g))
+        .count();
+    (partial as f64 / foamed.max(1) as f64, foamed)
+}
+
+#[test]
+fn foam_edges_are_soft() {
+    let path = gpu::standing(HEIGHT, 0.0, -89.0);
+    let mut shots = Vec::new();
+    for whitecaps in [true, false] {
+        let mut opts = gpu::small_options(StereoMode::TwoPass, vec![SKIP + FRAMES - 1]);
+        opts.ocean = sea(20.0);
+        opts.renderer.whitecaps = whitecaps;
+        let (_, mut f) = gpu::render_after(&opts, path.clone(), SKIP, FRAMES, SIZE, SIZE);
+        shots.push(f.remove(0));
+    }
+    if std::env::var_os("VR_OCEAN_SAVE_FRAMES").is_some() {
+        eprintln!("saved {}", shots[0].save("foam-soft").display());
+    }
+    let (share, foamed) = partial_share(&shots[0], &shots[1]);
+    println!(
+        "20 m/s: {:.1} % of {foamed} visibly foamed pixels are partial (30-70 % white)",
+        100.0 * share
+    );
+    assert!(foamed > 500, "too little foam to judge: {foamed} pixels");
+    assert!(
+        share >= 0.4,
+        "foam edges are hard: {:.1} % partial",
+        100.0 * share
+    );
+}

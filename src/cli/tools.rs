@@ -197,6 +197,10 @@ pub fn export_cmd(a: ExportArgs) -> CmdResult {
             };
             written += export::write_cascade(c, &a.out, &stem)?.len();
         }
+        // The whitecap coverage the renderer draws (the cascades' own foam above is eq. 51's).
+        if cfg.whitecaps {
+            written += export::write_whitecaps(&s.whitecaps, &a.out, &format!("t{t:.3}"))?.len();
+        }
     }
     println!("wrote {written} files to {}", a.out.display());
     Ok(())

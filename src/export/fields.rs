@@ -94,3 +94,60 @@ fn write_exr(
         .map_err(|e| io::Error::other(e.to_string()))?;
     w.write_all(cursor.get_ref())
 }
+
+/// Writes the whitecap coverage the renderer draws ([`crate::sim::whitecaps`]): per level l,
+/// `{stem}_whitecaps_l{l}.npy` (shape [T, T] float32 in [0, 1], row index = z, column = x, the
+/// window unwrapped from its toroidal storage so that [0, 0] is its first lattice point), and
+/// `{stem}_whitecaps.json` with each level's `origin_x`, `origin_z` (world position of [0, 0],
+/// m), `spacing` (m), `texels` and `mean` coverage. Returns the files written.
+pub fn write_whitecaps(
+    w: &crate::sim::whitecaps::Whitecaps,
+    dir: &Path,
+    stem: &str,
+) -> Result<Vec<PathBuf>, ExportError> {
+    use crate::sim::whitecaps::WHITECAP_TEXELS;
+    let t = WHITECAP_TEXELS;
+    let mut written = Vec::new();
+    let mut levels = Vec::new();
+    for (l, level) in w.levels.iter().enumerate() {
+        let slot = |i: i32| i.rem_euclid(t as i32) as usize;
+        let data: Vec<f32> = (0..t as i32)
+            .flat_map(|j| (0..t as i32).map(move |i| (i, j)))
+            .map(|(i, j)| {
+                let idx = slot(level.origin[1] + j) * t + slot(level.origin[0] + i);
+                f32::from(level.coverage[idx]) / 255.0
+            })
+            .collect();
+        let path = dir.join(format!("{stem}_whitecaps_l{l}.npy"));
+        write_atomically(&path, |out| {
+            use npyz::WriterBuilder;
+            let mut npy = npyz::WriteOptions::new()
+                .default_dtype()
+                .shape(&[t as u64, t as u64])
+                .writer(out)
+                .begin_nd()?;
+            npy.extend(data.iter().copied())?;
+            npy.finish()
+        })?;
+        written.push(path);
+        levels.push(serde_json::json!({
+            "level": l,
+            "origin_x": level.origin[0] as f64 * level.spacing as f64,
+            "origin_z": level.origin[1] as f64 * level.spacing as f64,
+            "spacing": level.spacing,
+            "texels": t,
+            "mean": level.mean,
+        }));
+    }
+    let path = dir.join(format!("{stem}_whitecaps.json"));
+    let text =
+        serde_json::to_string_pretty(&serde_json::json!({ "levels": levels })).map_err(|e| {
+            ExportError {
+                path: path.clone(),
+                source: io::Error::other(e),
+            }
+        })?;
+    super::write_bytes(&path, text.as_bytes())?;
+    written.push(path);
+    Ok(written)
+}
