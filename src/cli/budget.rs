@@ -157,6 +157,10 @@ fn measure(
     opts.threads = a.threads.max(1);
     opts.floating = None;
     opts.warmup = 1;
+    // The headset's defaults as they start, never adapted: a device slower than the headset
+    // (lavapipe takes seconds a frame) would otherwise let the GPU-time governor step quality
+    // down between the counted frames.
+    opts.governor.enabled = false;
     opts.renderer.count_paths = true;
     opts.renderer.specular_aa = !a.no_specular_aa;
     opts.renderer.msaa = Msaa::from_samples(model.msaa)
