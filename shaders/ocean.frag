@@ -122,6 +122,13 @@ const vec3 PURE_WATER_ABSORPTION = vec3(0.35, 0.057, 0.015);
 // sends on toward the eye (forward scattering), and the colour of sea water's scattering
 // (∝ λ^-2 at 650, 550 and 450 nm, between pure water's λ^-4.3 and particles' λ^-1).
 const float CREST_PATH = 1.5;
+// Light scattered out of a lifted crest toward the eye from any direction (issue 29): the
+// water near a crest is thin sideways, so light entering its lit faces leaves again after a
+// short path, little absorbed: an irradiance reflectance of the order of the deep water's
+// own (1-3 % in the green-blue: the scattering coefficient of clear ocean water, 0.01-0.05/m,
+// over a ~1 m crest, Morel 1974), tinted by the absorption of that path, added on a crest in
+// proportion to its lift squared (zero below the mean sea).
+const vec3 CREST_SCATTER = vec3(0.003, 0.022, 0.026);
 const float CREST_TRANSMITTANCE = 1.0;
 const vec3 WATER_SCATTER_COLOUR = vec3(0.48, 0.67, 1.0);
 // Diffuse albedo of foam (fresh foam is 0.5-0.8 over the visible).
@@ -393,6 +400,7 @@ mediump vec3 water_body(vec3 n_full, Foam f, vec3 v_full, float height) {
     mediump vec3 body = reflectance * diffuse;
     mediump float crest_height = height * g.derived.w;
     mediump float crest = clamp(crest_height, 0.0, 1.0);
+    body += CREST_SCATTER * (crest * crest) * diffuse;
     mediump float behind = max(dot(-v, l), 0.0);
     behind *= behind;
     behind *= behind;

@@ -2,11 +2,13 @@
 //! required: in the gallery's midday view (10 m/s, the sun 60° high, standing 4.5 m up, looking
 //! 7° down across the wind) the water 6-9 m away must not be a flat navy. The issue measured it
 //! at linear-luminance p95/p5 1.55 and high-pass std/mean 0.028 under Preetham's sky (its
-//! high-pass window unstated). This test's statistics (a 5 × 5 box as the low pass) read
-//! 2.05 / 0.38 (left eye) and 4.24 / 0.47 (right, more of the sun's glitter) with the new sky
-//! and the water shading of this commit; the gates are the issue's figures, a floor against a
-//! flat sea, not a claim that the water body of item 2 (subsurface light, detail normals) is
-//! built: it is not yet.
+//! high-pass window unstated). This test's statistics (a 5 × 5 box as the low pass), with the
+//! new sky: without light scattered out of the crests 2.05 / 0.38 (left eye) and 4.24 / 0.47
+//! (right, more of the sun's glitter); with it (`CREST_SCATTER` in `shaders/ocean.frag`) 2.40 /
+//! 0.32 and 4.12 / 0.40: the lifted crests lighter and greener, the spread between them and the
+//! troughs wider (the high-pass share falls as the mean rises). Gated: the smaller eye's p95/p5
+//! at 2.2 (fails without the crests' light) and the issue's high-pass figure as a floor. Item 2's
+//! detail normals are not built.
 
 mod common;
 
@@ -102,17 +104,23 @@ fn contrast(f: &Frame, eye: usize) -> (f32, f32) {
 #[test]
 fn near_water_has_light_and_detail() {
     let f = midday();
+    let mut smallest = f32::MAX;
     for eye in 0..2 {
         let (spread, detail) = contrast(&f, eye);
         println!(
             "eye {eye}: water 6-9 m away: luminance p95/p5 {spread:.2}, high-pass std/mean \
              {detail:.3}"
         );
-        assert!(spread >= GATE_SPREAD, "flat near water: p95/p5 {spread:.2}");
+        smallest = smallest.min(spread);
         assert!(detail >= GATE_DETAIL, "featureless near water: {detail:.3}");
     }
+    assert!(
+        smallest >= GATE_SPREAD,
+        "flat near water: p95/p5 {smallest:.2}"
+    );
 }
 
-/// The gates: well above the issue's measurement (1.55, 0.028).
-const GATE_SPREAD: f32 = 1.55;
+/// The gates: the spread the crests' light gives (2.40; 2.05 without it), and the issue's
+/// high-pass figure (0.028) as a floor.
+const GATE_SPREAD: f32 = 2.2;
 const GATE_DETAIL: f32 = 0.028;
