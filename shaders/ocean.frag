@@ -190,7 +190,8 @@ mediump float whitecap_coverage(vec2 xz, vec2 dx, vec2 dy) {
         vec4 level = g.whitecaps[l];
         float inv_side = g.derived[l];
         vec2 uv = xz * inv_side + 0.5 / WHITECAP_TEXELS;
-        mediump float c = textureGrad(u_whitecaps, vec3(uv, float(l)), dx * inv_side, dy * inv_side).r;
+        mediump float c =
+            textureGrad(u_whitecaps, vec3(uv, float(l)), dx * inv_side, dy * inv_side).r;
         mediump vec2 d = abs(xz - level.xy) * (2.0 * inv_side);
         cover = mix(cover, c, 1.0 - smoothstep(0.8, 0.95, max(d.x, d.y)));
     }

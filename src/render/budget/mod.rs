@@ -106,8 +106,8 @@ impl HeadsetModel {
 }
 
 /// Quest 2: Adreno 650 (512 FP32 lanes, FP16 at twice the rate) at 490 MHz (GPU level 3, Meta's
-/// CPU and GPU levels page), 32 bilinear texels a clock (16 trilinear), LPDDR4X at 34 GB/s; 1440 × 1584 eye
-/// buffers at 72 Hz, MSAA 4, high foveation, the medium preset.
+/// CPU and GPU levels page), 32 bilinear texels a clock (16 trilinear), LPDDR4X at 34 GB/s;
+/// 1440 × 1584 eye buffers at 72 Hz, MSAA 4, high foveation, the medium preset.
 pub const QUEST_2: HeadsetModel = HeadsetModel {
     name: "Quest 2",
     gpu: GpuFigures {

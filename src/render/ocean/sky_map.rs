@@ -1,5 +1,5 @@
-//! The sky the pass draws, reflects and fogs with: the atmosphere and clouds ([`crate::render::sky`])
-//! baked on the CPU into a GGX-prefiltered environment map (RGBA16F, one mip per roughness)
+//! The sky the pass draws, reflects and fogs with: the atmosphere and clouds
+//! ([`crate::render::sky`]) baked on the CPU into a GGX-prefiltered environment map (RGBA16F, one mip per roughness)
 //! and uploaded once, with the sun's and the sky's light and the exposure the shaders scale by.
 //! Made when the renderer is (and again when the sun moves): never per frame.
 

@@ -1,8 +1,8 @@
 //! The sky: a clear atmosphere of air, aerosol and ozone (single scattering plus an isotropic
 //! multiple-scattering share, integrated numerically), a cloud layer over it, the sun's disc
 //! after both, and a GGX-prefiltered environment map of the upper hemisphere, all made on the
-//! CPU when the sun, the haze or the clouds change (never per frame). Pure math: no Vulkan here; the renderer uploads
-//! [`EnvMap`]'s levels as a mip chain.
+//! CPU when the sun, the haze or the clouds change (never per frame). Pure math: no Vulkan here;
+//! the renderer uploads [`EnvMap`]'s levels as a mip chain.
 //!
 //! Conventions: y up; the sun's azimuth is in degrees from +x toward +z (the wind direction's
 //! convention), so the sun at elevation e, azimuth a lies along (cos e cos a, sin e, cos e sin a).
