@@ -249,8 +249,13 @@ mod tests {
         assert!((4.0..30.0).contains(&dome), "{dome}");
         assert!(zenith > 1.2 * horizon, "{zenith} vs {horizon}");
         assert!(LUMINANCE.dot(s.sun_illuminance()) < 1e-3);
-        let clear = sky(35.0, 2.5, 0.0);
-        assert!(dome < LUMINANCE.dot(clear.sky_illuminance()) + 0.3 * 100.0);
+        // The deck lets through a fraction of a clear day's light (measured: 10-40 %).
+        let clear = sky(35.0, 2.5, 0.0).horizontal_illuminance();
+        assert!(
+            (0.1..0.45).contains(&(s.horizontal_illuminance() / clear)),
+            "{} of {clear} klux",
+            s.horizontal_illuminance()
+        );
     }
 
     #[test]
