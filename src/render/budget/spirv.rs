@@ -24,8 +24,9 @@ use std::collections::{HashMap, HashSet};
 pub struct InstructionCounts {
     /// Scalar FP32/integer operations (one per component; an FMA is one).
     pub alu: u32,
-    /// Of `alu`, those whose result is decorated `RelaxedPrecision` (GLSL `mediump`): a GPU
-    /// with native FP16 (Adreno) may run them at half precision, at twice the FP32 rate.
+    /// Of `alu`, those in relaxed precision (GLSL `mediump`: decorated `RelaxedPrecision`, or
+    /// every operand that carries a precision relaxed, see the module doc): a GPU with native
+    /// FP16 (Adreno) may run them at half precision, at twice the FP32 rate.
     pub relaxed: u32,
     /// Special-function operations: reciprocal (of a division), square root, inverse square
     /// root, exp2, log2, sin, cos (one per component).
@@ -87,7 +88,7 @@ mod op {
     pub const TYPE_VECTOR: u16 = 23;
     pub const TYPE_MATRIX: u16 = 24;
     pub const CONSTANT_FIRST: u16 = 41; // OpConstantTrue
-    pub const CONSTANT_LAST: u16 = 51; // OpSpecConstantOp
+    pub const CONSTANT_LAST: u16 = 52; // OpSpecConstantOp
     pub const LOAD: u16 = 61;
     pub const VECTOR_SHUFFLE: u16 = 79;
     pub const COMPOSITE_EXTRACT: u16 = 81;
