@@ -13,6 +13,7 @@ mod common;
 
 use common::gpu::{self, Frame};
 use vr_ocean::lod::{LodSettings, OceanSize, QualityPreset};
+use vr_ocean::render::tonemap::srgb_decode;
 use vr_ocean::render::{Msaa, StereoMode};
 use vr_ocean::sim::{OceanConfig, SpectrumKind};
 
@@ -54,16 +55,6 @@ fn render(msaa: Msaa, specular_aa: bool, yaw: f32, size: u32) -> Frame {
     frames.remove(0)
 }
 
-/// sRGB 8-bit to linear.
-fn linear(c: u8) -> f32 {
-    let c = c as f32 / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
-
 /// Linear to sRGB 8-bit scale (0..255, unrounded).
 fn srgb(l: f32) -> f32 {
     let c = if l <= 0.003_130_8 {
@@ -86,7 +77,7 @@ fn luminance(f: &Frame, eye: usize, scale: u32) -> Vec<f32> {
                 for dx in 0..scale {
                     let p = f.pixel(eye, x * scale + dx, y * scale + dy);
                     for c in 0..3 {
-                        rgb[c] += linear(p[c]);
+                        rgb[c] += srgb_decode(p[c]);
                     }
                 }
             }

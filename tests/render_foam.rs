@@ -77,11 +77,9 @@ fn coverage_seen(frame: &Frame, surfaces: &Surfaces) -> f64 {
     sum / n as f64
 }
 
-/// Share of pixels (both eyes) drawn white: at least 200 codes brighter (sum of RGB) with
-/// whitecaps than without, a third of what a fully foamed pixel gains here (~600), well above
-/// what the bubbles below the foam add (~100).
-fn whitened_share(with: &Frame, without: &Frame) -> f64 {
-    let (mut n, mut whiter) = (0usize, 0usize);
+/// Per pixel of both eyes, how much brighter (sum of RGB codes) `with` is than `without`.
+fn gains(with: &Frame, without: &Frame) -> Vec<i32> {
+    let mut out = Vec::with_capacity(2 * (with.width * with.height) as usize);
     for eye in 0..2 {
         for y in 0..with.height {
             for x in 0..with.width {
@@ -91,14 +89,19 @@ fn whitened_share(with: &Frame, without: &Frame) -> f64 {
                         .map(|&c| c as i32)
                         .sum::<i32>()
                 };
-                n += 1;
-                if sum(with) >= sum(without) + 200 {
-                    whiter += 1;
-                }
+                out.push(sum(with) - sum(without));
             }
         }
     }
-    whiter as f64 / n as f64
+    out
+}
+
+/// Share of pixels (both eyes) drawn white: at least 200 codes brighter (sum of RGB) with
+/// whitecaps than without, a third of what a fully foamed pixel gains here (~600), well above
+/// what the bubbles below the foam add (~100).
+fn whitened_share(with: &Frame, without: &Frame) -> f64 {
+    let g = gains(with, without);
+    g.iter().filter(|&&d| d >= 200).count() as f64 / g.len() as f64
 }
 
 #[test]
@@ -152,20 +155,10 @@ fn the_white_area_is_the_simulated_coverage() {
 /// fully foamed white, the 99th percentile of the gain: above what the bubbles alone add), the
 /// share that is partial (30-70 % of the way): soft edges and thin foam, not paint chips.
 fn partial_share(with: &Frame, without: &Frame) -> (f64, usize) {
-    let mut gains = Vec::new();
-    for eye in 0..2 {
-        for y in 0..with.height {
-            for x in 0..with.width {
-                let sum = |f: &Frame| {
-                    f.pixel(eye, x, y)[..3]
-                        .iter()
-                        .map(|&c| c as i32)
-                        .sum::<i32>()
-                };
-                gains.push((sum(with) - sum(without)).max(0) as f64);
-            }
-        }
-    }
+    let gains: Vec<f64> = gains(with, without)
+        .into_iter()
+        .map(|d| d.max(0) as f64)
+        .collect();
     let mut sorted: Vec<f64> = gains.iter().copied().filter(|&g| g > 30.0).collect();
     sorted.sort_by(f64::total_cmp);
     let white = sorted[sorted.len() * 99 / 100];

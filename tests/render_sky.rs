@@ -14,23 +14,14 @@ use common::gpu::{self, Frame};
 use glam::Vec3;
 use vr_ocean::render::camera::project_to_pixel;
 use vr_ocean::render::sky::SunSky;
+use vr_ocean::render::tonemap::srgb_decode;
 use vr_ocean::render::{Msaa, StereoMode};
 
 const W: u32 = 240;
 const H: u32 = 240;
 
-/// sRGB code to linear.
-fn linear(c: u8) -> f32 {
-    let c = c as f32 / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
-
 fn linear_rgb(p: [u8; 4]) -> Vec3 {
-    Vec3::new(linear(p[0]), linear(p[1]), linear(p[2]))
+    Vec3::new(srgb_decode(p[0]), srgb_decode(p[1]), srgb_decode(p[2]))
 }
 
 fn luminance(c: Vec3) -> f32 {

@@ -16,20 +16,14 @@ use common::gpu::{self, Frame};
 use glam::Vec3;
 use vr_ocean::render::camera::project_to_pixel;
 use vr_ocean::render::sky::SunSky;
+use vr_ocean::render::tonemap::srgb_decode;
 use vr_ocean::render::{Msaa, StereoMode};
 use vr_ocean::sim::OceanConfig;
 
 const SIZE: u32 = 480;
 
 fn luminance(p: [u8; 4]) -> f32 {
-    let lin = |c: u8| {
-        let c = c as f32 / 255.0;
-        if c <= 0.04045 {
-            c / 12.92
-        } else {
-            ((c + 0.055) / 1.055).powf(2.4)
-        }
-    };
+    let lin = srgb_decode;
     0.2126 * lin(p[0]) + 0.7152 * lin(p[1]) + 0.0722 * lin(p[2])
 }
 

@@ -41,9 +41,28 @@ pub fn srgb_encode(linear: f32) -> f32 {
     }
 }
 
+/// The inverse of [`srgb_encode`]: an 8-bit sRGB code to linear [0, 1] (reading rendered images
+/// back, in tests and tools).
+pub fn srgb_decode(code: u8) -> f32 {
+    let c = code as f32 / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn decode_inverts_encode() {
+        for code in 0..=255u8 {
+            let back = (255.0 * srgb_encode(srgb_decode(code))).round() as u8;
+            assert_eq!(back, code);
+        }
+    }
 
     #[test]
     fn the_curve_is_monotonic_bounded_and_linear_below_its_knee() {

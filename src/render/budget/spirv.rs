@@ -433,32 +433,23 @@ mod tests {
         // operations (not the divide's reciprocals) count as relaxed, and so does the dot of
         // two relaxed values (GLSL's rule), but not a dot with an operand in full precision.
         let relax = |id| [(3 << 16) | op::DECORATE as u32, id, RELAXED_PRECISION];
-        let words: Vec<u32> = [
-            &header[..],
-            &relax(10),
-            &relax(14),
-            &float,
-            &vec3,
-            &mul,
-            &dot,
-            &div,
-        ]
-        .concat();
-        let c = count(&words).unwrap();
+        let with_dot = |dot: &[u32]| {
+            let parts: [&[u32]; 8] = [
+                &header,
+                &relax(10),
+                &relax(14),
+                &float,
+                &vec3,
+                &mul,
+                dot,
+                &div,
+            ];
+            count(&parts.concat()).unwrap()
+        };
+        let c = with_dot(&dot);
         assert_eq!((c.alu, c.special, c.relaxed), (11, 3, 3 + 5 + 3));
         let mixed = [(5 << 16) | op::DOT as u32, 1, 13, 10, 11];
-        let words: Vec<u32> = [
-            &header[..],
-            &relax(10),
-            &relax(14),
-            &float,
-            &vec3,
-            &mul,
-            &mixed,
-            &div,
-        ]
-        .concat();
-        assert_eq!(count(&words).unwrap().relaxed, 3 + 3);
+        assert_eq!(with_dot(&mixed).relaxed, 3 + 3);
         // A constant operand carries no precision: relaxed × constant stays relaxed.
         let constant = [(4 << 16) | 43, 1, 20, 0x3f80_0000];
         let scale = [(5 << 16) | op::VECTOR_TIMES_SCALAR as u32, 2, 21, 10, 20];

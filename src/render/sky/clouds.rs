@@ -93,11 +93,6 @@ impl CloudLayer {
         layer
     }
 
-    /// The share of the sky covered.
-    pub fn coverage(&self) -> f32 {
-        self.coverage
-    }
-
     /// The layer's radiance over the clear sky along unit `d` (elevation ≥ 0): `clear` is the
     /// clear sky's radiance there (the atmosphere's, whole path), `atmosphere` gives the air in
     /// front. Rays below the horizon read the horizon.

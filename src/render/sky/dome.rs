@@ -5,9 +5,9 @@
 
 use glam::Vec3;
 
-use super::atmosphere::{Atmosphere, SOLAR_ILLUMINANCE_KLUX};
+use super::atmosphere::Atmosphere;
 use super::clouds::CloudLayer;
-use super::colour::{xyy_to_rgb, LUMINANCE, SUN_CHROMATICITY};
+use super::colour::LUMINANCE;
 use super::{SunSky, SUN_ANGULAR_RADIUS_DEG, SUN_SOLID_ANGLE, TURBIDITY_RANGE};
 
 /// Elevation × azimuth cells of the midpoint rule for the sky's illuminance.
@@ -43,9 +43,7 @@ impl Sky {
         let clouds = CloudLayer::new(sun.clouds, sun_dir, &atmosphere, clear_sky);
         let r = SUN_ANGULAR_RADIUS_DEG;
         let visible = ((sun.elevation_deg + r) / (2.0 * r)).clamp(0.0, 1.0);
-        let [x, y] = SUN_CHROMATICITY;
-        // Luminance 1 by construction (the matrix's Y row is LUMINANCE).
-        let above = xyy_to_rgb(x, y, 1.0) * (SOLAR_ILLUMINANCE_KLUX / SUN_SOLID_ANGLE);
+        let above = atmosphere.solar_illuminance() / SUN_SOLID_ANGLE;
         let through =
             atmosphere.transmittance(0.0, sun_dir.y.max(0.0)) * clouds.sun_transmittance();
         let mut sky = Self {
