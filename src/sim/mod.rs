@@ -39,6 +39,7 @@ pub mod dispersion;
 pub mod evolve;
 pub mod fft;
 pub mod grid;
+pub mod interaction;
 pub mod pack;
 pub mod params;
 pub mod query;

@@ -14,7 +14,7 @@ use crate::sim::pack;
 
 /// Writes `out[i] = [p0[i], p1[i], p2[i], p3[i]]` as binary16 bits (round to nearest even).
 /// Every plane must hold at least `out.len()` values.
-pub(super) fn interleave_f16(planes: [&[f32]; 4], out: &mut [[u16; 4]]) {
+pub(crate) fn interleave_f16(planes: [&[f32]; 4], out: &mut [[u16; 4]]) {
     let n = out.len();
     let planes = planes.map(|p| &p[..n]);
     #[cfg(target_arch = "x86_64")]

@@ -30,7 +30,7 @@ use crate::sim::grid::{GridSize, SplitField};
 use crate::sim::pack;
 use crate::sim::params::FoamParams;
 
-mod f16_row;
+pub(crate) mod f16_row;
 mod mips;
 mod row;
 
