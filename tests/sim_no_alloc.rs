@@ -5,6 +5,7 @@ mod common;
 
 use std::sync::Mutex;
 
+use vr_ocean::sim::interaction::{InteractionConfig, InteractionLayer, WaveSource};
 use vr_ocean::sim::{Derivatives, OceanConfig, Simulation};
 
 #[global_allocator]
@@ -52,6 +53,42 @@ fn steady_state_steps_do_not_allocate() {
     }
 }
 
+/// The interaction layer's step and recentring allocate nothing, on 1 and 2 threads.
+fn interaction_steps_do_not_allocate() {
+    let _turn = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let cfg = InteractionConfig::default_with_dt(1.0 / 90.0).unwrap();
+            let mut layer = InteractionLayer::new(cfg, 0.0, 0.0);
+            let mut x = 0.0;
+            let mut step = |layer: &mut InteractionLayer, x: &mut f32| {
+                *x += 0.05;
+                layer.recentre(*x, 0.0);
+                let mut s = WaveSource::floating_sphere(*x, 0.0, 1.0, 300.0);
+                s.impulse = 0.1;
+                layer.step(&[s, WaveSource::floating_sphere(-3.0, 2.0, 0.4, 500.0)]);
+            };
+            for _ in 0..10 {
+                step(&mut layer, &mut x);
+            }
+            let ((), n) = common::count_allocations(|| {
+                for _ in 0..100 {
+                    step(&mut layer, &mut x);
+                }
+            });
+            assert!(layer.heights().iter().any(|&h| h != 0.0));
+            assert_eq!(
+                n, 0,
+                "{n} heap allocations in 100 layer steps on {threads} thread(s)"
+            );
+        });
+    }
+}
+
 fn the_counter_sees_allocations() {
     // Guards the test above against passing vacuously.
     let _turn = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
@@ -68,6 +105,10 @@ fn main() {
     run(
         "steady_state_steps_do_not_allocate",
         steady_state_steps_do_not_allocate,
+    );
+    run(
+        "interaction_steps_do_not_allocate",
+        interaction_steps_do_not_allocate,
     );
     run("the_counter_sees_allocations", the_counter_sees_allocations);
 }

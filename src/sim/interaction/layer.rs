@@ -3,7 +3,7 @@
 
 use rayon::prelude::*;
 
-use super::modes::ModeTable;
+use super::modes::{ModeTable, MAX_N};
 use super::source::{footprint, WaveSource, FOOTPRINT_AREA};
 use super::{InteractionConfig, FOAM_LIFETIME_S, FOAM_SLOPE, SURFACE_TENSION};
 use crate::sim::fft::Fft2d;
@@ -45,17 +45,19 @@ pub struct InteractionLayer {
     /// Between steps: h − iφ (re = h, im = −φ).
     field: SplitField,
     scratch: SplitField,
-    /// Per cell: the band's damping factor for one step, times 1/N² (the transform's scale).
-    damp: AlignedBuf,
-    /// Per cell: the fade of what is drawn and queried, 1 inside the band, 0 at the edge.
-    window: AlignedBuf,
-    /// Drawn and queried: h·window (m), its slopes ∂/∂x, ∂/∂z, and foam (0..1).
+    /// Per row or column: how deep into the absorbing band it is, 0 (inside) to the band's
+    /// width (the outermost); a cell's level is the larger of its row's and column's.
+    level: Vec<usize>,
+    /// Per row level: the row's damping factors for one step, times 1/N² (the transform's
+    /// scale), N per level.
+    damp: Vec<f32>,
+    /// Per row level: the row's fade of what is drawn and queried, 1 inside, 0 at the edge.
+    window: Vec<f32>,
+    /// Drawn and queried: h·window (m), and foam (0..1).
     height: AlignedBuf,
-    slope_x: AlignedBuf,
-    slope_z: AlignedBuf,
     foam: AlignedBuf,
     /// 1 in cells a source pressed this step (no breaking there: its hollow is held), else 0.
-    forced: AlignedBuf,
+    forced: Vec<u8>,
     /// RGBA16F (h, ∂h/∂x, ∂h/∂z, foam) of the four planes above, for the renderer.
     texels: Vec<[u16; 4]>,
     /// World position of cell (0, 0) in cells.
@@ -79,40 +81,41 @@ impl InteractionLayer {
             SURFACE_TENSION,
         );
         let band = config.sponge_cells();
-        // Depth into the band, 0 inside, 1 at the outermost cell.
-        let depth = |i: usize| {
-            let from_edge = i.min(n - 1 - i);
-            if from_edge >= band {
-                0.0
-            } else {
-                (band - from_edge) as f32 / band as f32
-            }
-        };
+        let level: Vec<usize> = (0..n)
+            .map(|i| band.saturating_sub(i.min(n - 1 - i)))
+            .collect();
         let scale = 1.0 / (n * n) as f32;
-        let mut damp = AlignedBuf::zeros(n * n);
-        let mut window = AlignedBuf::zeros(n * n);
-        for r in 0..n {
-            for c in 0..n {
-                let u = depth(r).max(depth(c));
-                damp[r * n + c] = (-SPONGE_RATE * u * u * config.dt).exp() * scale;
+        // u: depth into the band, 0 inside, 1 at the outermost cell.
+        let (per_level_damp, per_level_window): (Vec<f32>, Vec<f32>) = (0..=band)
+            .map(|l| {
+                let u = l as f32 / band as f32;
+                let damp = (-SPONGE_RATE * u * u * config.dt).exp() * scale;
                 // Faded over the band's inner two thirds: zero where the damping is strongest.
                 let v = (u * 1.5).min(1.0);
-                window[r * n + c] = 1.0 - v * v * (3.0 - 2.0 * v);
-            }
-        }
+                (damp, 1.0 - v * v * (3.0 - 2.0 * v))
+            })
+            .unzip();
+        let rows = |per_level: &[f32]| -> Vec<f32> {
+            (0..=band)
+                .flat_map(|lr| {
+                    let level = &level;
+                    (0..n).map(move |c: usize| per_level[lr.max(level[c])])
+                })
+                .collect()
+        };
+        let (damp, window) = (rows(&per_level_damp), rows(&per_level_window));
         let mut layer = Self {
             config,
             fft,
             modes,
             field: SplitField::zeros(size),
             scratch: SplitField::zeros(size),
+            level,
             damp,
             window,
             height: AlignedBuf::zeros(n * n),
-            slope_x: AlignedBuf::zeros(n * n),
-            slope_z: AlignedBuf::zeros(n * n),
             foam: AlignedBuf::zeros(n * n),
-            forced: AlignedBuf::zeros(n * n),
+            forced: vec![0; n * n],
             texels: vec![[0; 4]; n * n],
             origin: [0; 2],
             time: 0.0,
@@ -180,14 +183,11 @@ impl InteractionLayer {
             &mut self.field.re,
             &mut self.field.im,
             &mut self.height,
-            &mut self.slope_x,
-            &mut self.slope_z,
             &mut self.foam,
         ] {
             shift(plane, n, dx, dz);
         }
-        // The texels follow at the next step; until then they are re-made here.
-        self.pack();
+        self.draw(None);
     }
 
     /// One step of `dt`: the sources, the exact rotation of every mode, the absorbing band,
@@ -196,8 +196,6 @@ impl InteractionLayer {
         let n = self.config.cells.n();
         let (cell, dt, g) = (self.config.cell_m, self.config.dt, self.config.gravity);
         let mut applied = 0;
-        let decay = (-dt / FOAM_LIFETIME_S).exp();
-        self.foam.par_iter_mut().for_each(|f| *f *= decay);
         for s in sources.iter().filter(|s| s.is_valid()) {
             applied += 1;
             let reach_m = s.reach(cell);
@@ -222,7 +220,7 @@ impl InteractionLayer {
                         let i = row * n + col;
                         self.field.im[i] += (push + kick) * w;
                         self.foam[i] = (self.foam[i] + s.foam * w).min(1.0);
-                        self.forced[i] = 1.0;
+                        self.forced[i] = 1;
                     }
                 }
             }
@@ -232,8 +230,7 @@ impl InteractionLayer {
         let energy = self.modes.rotate(&mut self.field);
         self.fft.inverse(&mut self.field, &mut self.scratch);
         // Scale and damp; keep h − iφ; the drawn height.
-        let damp = &self.damp;
-        let window = &self.window;
+        let (level, damp, window) = (&self.level, &self.damp, &self.window);
         self.field
             .re
             .par_chunks_mut(n)
@@ -241,16 +238,15 @@ impl InteractionLayer {
             .zip(self.height.par_chunks_mut(n))
             .enumerate()
             .for_each(|(row, ((re, im), out))| {
-                let d = &damp[row * n..(row + 1) * n];
-                let w = &window[row * n..(row + 1) * n];
+                let at = level[row] * n..(level[row] + 1) * n;
+                let (d, w) = (&damp[at.clone()], &window[at]);
                 for c in 0..n {
                     re[c] *= d[c];
                     im[c] *= -d[c];
                     out[c] = re[c] * w[c];
                 }
             });
-        self.slopes_and_foam();
-        self.pack();
+        self.draw(Some((-dt / FOAM_LIFETIME_S).exp()));
         let rho = 1025.0;
         let area = (cell as f64).powi(2);
         self.stats = InteractionStats {
@@ -260,61 +256,49 @@ impl InteractionLayer {
         self.time += dt as f64;
     }
 
-    /// Central-difference slopes of the drawn height; foam where they are steep; breaking
-    /// where they pass [`BREAK_SLOPE`] outside the sources' footprints.
-    fn slopes_and_foam(&mut self) {
+    /// The texels: central-difference slopes of the drawn height, and foam. After a step
+    /// (`foam_decay` given) also the foam's life: decay, whitening where the slope passes
+    /// [`FOAM_SLOPE`], breaking where it passes [`BREAK_SLOPE`] outside the sources'
+    /// footprints.
+    fn draw(&mut self, foam_decay: Option<f32>) {
         let n = self.config.cells.n();
         let inv = 0.5 / self.config.cell_m;
         let h = &self.height;
-        self.slope_x
+        self.texels
             .par_chunks_mut(n)
-            .zip(self.slope_z.par_chunks_mut(n))
             .zip(self.foam.par_chunks_mut(n))
             .zip(self.forced.par_chunks_mut(n))
             .zip(self.field.re.par_chunks_mut(n))
             .enumerate()
-            .for_each(|(row, ((((sx, sz), foam), forced), re))| {
+            .for_each(|(row, (((out, foam), forced), re))| {
                 let up = &h[row.saturating_sub(1) * n..][..n];
                 let mid = &h[row * n..][..n];
                 let down = &h[(row + 1).min(n - 1) * n..][..n];
-                for c in 0..n {
-                    let (l, r) = (mid[c.saturating_sub(1)], mid[(c + 1).min(n - 1)]);
-                    sx[c] = (r - l) * inv;
-                    sz[c] = (down[c] - up[c]) * inv;
-                    let s = (sx[c] * sx[c] + sz[c] * sz[c]).sqrt();
-                    let mut f = foam[c];
-                    if s > FOAM_SLOPE {
-                        f += FOAM_PER_SLOPE * (s - FOAM_SLOPE);
-                    }
-                    if s > BREAK_SLOPE && forced[c] == 0.0 {
-                        let keep = BREAK_SLOPE / s;
-                        re[c] *= keep;
-                        f += FOAM_PER_BREAK * (1.0 - keep);
-                    }
-                    foam[c] = f.min(1.0);
-                    forced[c] = 0.0;
+                let mut sx = [0.0f32; MAX_N];
+                let mut sz = [0.0f32; MAX_N];
+                // Branch-free loops over plain slices: they vectorize.
+                for ((s, r), l) in sx[1..n - 1].iter_mut().zip(&mid[2..]).zip(&mid[..n - 2]) {
+                    *s = (r - l) * inv;
                 }
-            });
-    }
-
-    /// The RGBA16F texels from the four drawn planes.
-    fn pack(&mut self) {
-        let n = self.config.cells.n();
-        let (h, sx, sz, f) = (&self.height, &self.slope_x, &self.slope_z, &self.foam);
-        self.texels
-            .par_chunks_mut(n)
-            .enumerate()
-            .for_each(|(row, out)| {
-                let rows = row * n..(row + 1) * n;
-                interleave_f16(
-                    [
-                        &h[rows.clone()],
-                        &sx[rows.clone()],
-                        &sz[rows.clone()],
-                        &f[rows],
-                    ],
-                    out,
-                );
+                sx[0] = (mid[1] - mid[0]) * inv;
+                sx[n - 1] = (mid[n - 1] - mid[n - 2]) * inv;
+                for ((s, d), u) in sz[..n].iter_mut().zip(down).zip(up) {
+                    *s = (d - u) * inv;
+                }
+                if let Some(decay) = foam_decay {
+                    for c in 0..n {
+                        let s = (sx[c] * sx[c] + sz[c] * sz[c]).sqrt();
+                        let whiten = FOAM_PER_SLOPE * (s - FOAM_SLOPE).max(0.0);
+                        // 1 where no source holds the cell; the share of h kept there.
+                        let free = 1.0 - forced[c] as f32;
+                        let keep = 1.0 - free * (1.0 - BREAK_SLOPE / s.max(BREAK_SLOPE));
+                        re[c] *= keep;
+                        foam[c] =
+                            (foam[c] * decay + whiten + FOAM_PER_BREAK * (1.0 - keep)).min(1.0);
+                        forced[c] = 0;
+                    }
+                }
+                interleave_f16([mid, &sx[..n], &sz[..n], foam], out);
             });
     }
 

@@ -105,39 +105,75 @@ impl ModeTable {
             .zip(row_energy[1..half].par_iter_mut())
             .enumerate()
             .for_each(|(i, ((((tr, ti), br), bi), energy))| {
-                let row = (i + 1) * n;
-                let mut e = 0.0f32;
-                let (zk, zm, de) = this.pair(row, [tr[0], ti[0]], [br[0], bi[0]]);
-                [tr[0], ti[0]] = zk;
-                [br[0], bi[0]] = zm;
-                e += de;
-                for c in 1..n {
-                    let j = n - c;
-                    let (zk, zm, de) = this.pair(row + c, [tr[c], ti[c]], [br[j], bi[j]]);
-                    [tr[c], ti[c]] = zk;
-                    [br[j], bi[j]] = zm;
-                    e += de;
+                // The partner row reversed ((N − c) mod N at c) into a local copy, so that the
+                // loop below is element-wise (and vectorizes).
+                let mut pr = [0.0f32; MAX_N];
+                let mut pi = [0.0f32; MAX_N];
+                let mut e = [0.0f32; MAX_N];
+                for c in 0..n {
+                    let j = (n - c) & (n - 1);
+                    pr[c] = br[j];
+                    pi[c] = bi[j];
                 }
-                *energy = e as f64;
+                let row = (i + 1) * n;
+                let rows = row..row + n;
+                let (cos, th, tp) = (
+                    &this.cos[rows.clone()],
+                    &this.to_h[rows.clone()],
+                    &this.to_phi[rows.clone()],
+                );
+                let (wh, wp) = (&this.weight_h[rows.clone()], &this.weight_phi[rows]);
+                for c in 0..n {
+                    let (zk, zm, de) = rotate_pair(
+                        [cos[c], th[c], tp[c], wh[c], wp[c]],
+                        [tr[c], ti[c]],
+                        [pr[c], pi[c]],
+                    );
+                    [tr[c], ti[c]] = zk;
+                    [pr[c], pi[c]] = zm;
+                    e[c] = de;
+                }
+                for c in 0..n {
+                    let j = (n - c) & (n - 1);
+                    br[j] = pr[c];
+                    bi[j] = pi[c];
+                }
+                *energy = e[..n].iter().sum::<f32>() as f64;
             });
         let total = row_energy.iter().sum();
         self.row_energy = row_energy;
         total
     }
 
-    /// One pair: W_k and W₋ₖ in, Z'_k and Z'₋ₖ out, with twice the mode's energy (k and −k).
+    /// [`rotate_pair`] with mode `t`'s table entries.
     #[inline(always)]
     fn pair(&self, t: usize, wk: [f32; 2], wm: [f32; 2]) -> ([f32; 2], [f32; 2], f32) {
-        // p = conj(W_k) = Z_k, q = W₋ₖ = conj(Z₋ₖ).
-        let (pr, pi) = (wk[0], -wk[1]);
-        let (qr, qi) = (wm[0], wm[1]);
-        let (ar, ai) = (0.5 * (pr + qr), 0.5 * (pi + qi));
-        let (br, bi) = (0.5 * (pi - qi), -0.5 * (pr - qr));
-        let (c, th, tp) = (self.cos[t], self.to_h[t], self.to_phi[t]);
-        let (hr, hi) = (c * ar + th * br, c * ai + th * bi);
-        let (fr, fi) = (c * br - tp * ar, c * bi - tp * ai);
-        let energy = 2.0
-            * (self.weight_h[t] * (ar * ar + ai * ai) + self.weight_phi[t] * (br * br + bi * bi));
-        ([hr - fi, hi + fr], [hr + fi, fr - hi], energy)
+        let tab = [
+            self.cos[t],
+            self.to_h[t],
+            self.to_phi[t],
+            self.weight_h[t],
+            self.weight_phi[t],
+        ];
+        rotate_pair(tab, wk, wm)
     }
+}
+
+/// Largest side a layer may have (its rows are copied to the stack).
+pub(super) const MAX_N: usize = 512;
+
+/// One pair: W_k and W₋ₖ in, Z'_k and Z'₋ₖ out, with twice the mode's energy (k and −k);
+/// `tab` is (cos ωdt, (|k|/ω)·sin ωdt, (ω/|k|)·sin ωdt, ω²/|k|, |k|).
+#[inline(always)]
+fn rotate_pair(tab: [f32; 5], wk: [f32; 2], wm: [f32; 2]) -> ([f32; 2], [f32; 2], f32) {
+    let [c, th, tp, weight_h, weight_phi] = tab;
+    // p = conj(W_k) = Z_k, q = W₋ₖ = conj(Z₋ₖ).
+    let (pr, pi) = (wk[0], -wk[1]);
+    let (qr, qi) = (wm[0], wm[1]);
+    let (ar, ai) = (0.5 * (pr + qr), 0.5 * (pi + qi));
+    let (br, bi) = (0.5 * (pi - qi), -0.5 * (pr - qr));
+    let (hr, hi) = (c * ar + th * br, c * ai + th * bi);
+    let (fr, fi) = (c * br - tp * ar, c * bi - tp * ai);
+    let energy = 2.0 * (weight_h * (ar * ar + ai * ai) + weight_phi * (br * br + bi * bi));
+    ([hr - fi, hi + fr], [hr + fi, fr - hi], energy)
 }
