@@ -38,6 +38,14 @@ fn bad_parameters_are_named_with_their_valid_range() {
         &["derivatives", "spectral", "finite"],
     );
     assert_rejected(&["bench", "--derivatives", "exact"], &["derivatives"]);
+    assert_rejected(&with(&["--impulse", "3"]), &["impulse", "X,Z"]);
+    assert_rejected(&with(&["--impulse", "3,nan"]), &["impulse", "X,Z"]);
+    assert_rejected(&with(&["--tow", "0"]), &["tow", "> 0"]);
+    assert_rejected(&with(&["--tow", "40"]), &["tow", "10"]);
+    assert_rejected(
+        &["export", "--time", "-1", "--tow", "1", "--out", out],
+        &["time", ">= 0"],
+    );
     assert_rejected(
         &with(&["--spectrum", "jonswap", "--fetch", "nan"]),
         &["fetch"],
@@ -281,5 +289,86 @@ fn export_writes_the_whitecaps_the_renderer_draws() {
     let fine = read_npy(&dir.join("t6.000_whitecaps_l0.npy")).1;
     let share = fine.iter().sum::<f32>() / fine.len() as f32;
     assert!(share > 0.01, "a 20 m/s sea without whitecaps: {share}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Reads an exported interaction layer at time `t` as a field to measure, with its source.
+fn read_interaction(dir: &std::path::Path, t: &str) -> (Vec<f32>, usize, f32, [f32; 2], [f32; 2]) {
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join(format!("t{t}_interaction.json"))).unwrap())
+            .unwrap();
+    let f = |k: &str| json[k].as_f64().unwrap_or_else(|| panic!("{k} in {json}")) as f32;
+    let cells = json["cells"].as_u64().unwrap() as usize;
+    let (shape, heights) = read_npy(&dir.join(format!("t{t}_interaction_height.npy")));
+    assert_eq!(shape, vec![cells as u64, cells as u64]);
+    (
+        heights,
+        cells,
+        f("cell_m"),
+        [f("origin_x"), f("origin_z")],
+        [f("source_x"), f("source_z")],
+    )
+}
+
+/// `export --impulse` writes rings that keep deep water's dispersion (Cauchy-Poisson's
+/// wavelength within 15 %) and `--tow` a Kelvin wake (19.5° ± 3°), both measured from the
+/// exported files with `sim::interaction::measure`.
+#[test]
+fn export_writes_the_interaction_layer() {
+    use vr_ocean::sim::interaction::measure::{ring_half_waves, wake_half_angle, FieldView};
+    let dir = scratch_dir("export-interaction");
+    let out = dir.to_str().unwrap();
+    run_ok(&[
+        "export",
+        "--grid",
+        "32",
+        "--time",
+        "5,6",
+        "--impulse",
+        "2,-3",
+        "--out",
+        out,
+    ]);
+    for t in ["5.000", "6.000"] {
+        let (heights, cells, cell_m, origin, source) = read_interaction(&dir, t);
+        assert_eq!(source, [2.0, -3.0]);
+        let view = FieldView {
+            heights: &heights,
+            cells,
+            cell_m,
+            origin,
+        };
+        let time: f32 = t.parse().unwrap();
+        let waves = ring_half_waves(&view, 2.0, -3.0, time, 9.81, 0.68, 14.0);
+        assert!(waves.len() >= 4, "{waves:?}");
+        for w in &waves {
+            println!(
+                "t {t}: r {:.2} m, λ {:.3} vs {:.3} m",
+                w.inner, w.measured, w.predicted
+            );
+            assert!((w.measured / w.predicted - 1.0).abs() < 0.15, "{w:?}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+    run_ok(&[
+        "export", "--grid", "32", "--time", "20", "--tow", "1.2", "--out", out,
+    ]);
+    let (heights, cells, cell_m, origin, source) = read_interaction(&dir, "20.000");
+    assert!(
+        (source[0] - 24.0).abs() < 0.02 && source[1] == 0.0,
+        "{source:?}"
+    );
+    let view = FieldView {
+        heights: &heights,
+        cells,
+        cell_m,
+        origin,
+    };
+    let angle = wake_half_angle(&view, source[0], source[1]).unwrap();
+    println!(
+        "wake half-angle {angle:.1}° at Fr {:.2}",
+        1.2 / 9.81f32.sqrt()
+    );
+    assert!((angle - 19.47).abs() <= 3.0, "{angle}");
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -11,6 +11,7 @@ use vr_ocean::base::ParamError;
 use vr_ocean::bench::{self, BenchOptions};
 use vr_ocean::export;
 use vr_ocean::sim::fft::{Backend, UnavailableBackend};
+use vr_ocean::sim::interaction::{InteractionConfig, Scenario, ScenarioRun};
 use vr_ocean::sim::{GridSize, OceanConfig, SimCore, SimError, Simulation, Surfaces};
 
 #[derive(Args)]
@@ -73,6 +74,64 @@ pub struct ExportArgs {
     /// Output directory (created if missing).
     #[arg(long)]
     pub out: PathBuf,
+    /// Also export the interaction layer after a 1 m sphere dropped at world X,Z (m) at t = 0:
+    /// `t{time}_interaction_height.npy` and `t{time}_interaction.json` (times must be >= 0).
+    #[arg(
+        long,
+        value_name = "X,Z",
+        allow_negative_numbers = true,
+        value_delimiter = ',',
+        num_args = 1
+    )]
+    pub impulse: Option<Vec<f32>>,
+    /// Also export the interaction layer with a 1 m float towed along +x from the origin at
+    /// SPEED (m/s) from t = 0, the layer following it (times must be >= 0).
+    #[arg(long, value_name = "SPEED", allow_negative_numbers = true)]
+    pub tow: Option<f32>,
+}
+
+impl ExportArgs {
+    /// The interaction scenario asked for, checked; `None` when neither option is given.
+    fn scenario(&self) -> Result<Option<Scenario>, ParamError> {
+        let impulse = match self.impulse.as_deref() {
+            None => None,
+            Some(&[x, z]) if x.is_finite() && z.is_finite() => Some([x, z]),
+            Some(v) => {
+                let bad = v
+                    .iter()
+                    .find(|x| !x.is_finite())
+                    .copied()
+                    .unwrap_or(v.len() as f32);
+                return Err(ParamError::new(
+                    "impulse",
+                    bad as f64,
+                    "two finite numbers X,Z (m), e.g. --impulse 3,-2",
+                ));
+            }
+        };
+        let tow = match self.tow {
+            None => None,
+            Some(v) if v.is_finite() && v > 0.0 && v <= 10.0 => Some(v),
+            Some(v) => {
+                return Err(ParamError::new(
+                    "tow",
+                    v as f64,
+                    "a speed > 0 and <= 10 (m/s)",
+                ));
+            }
+        };
+        if impulse.is_none() && tow.is_none() {
+            return Ok(None);
+        }
+        if let Some(&t) = self.time.iter().find(|&&t| t < 0.0) {
+            return Err(ParamError::new(
+                "time",
+                t,
+                "times >= 0 (s) with --impulse or --tow: the layer starts calm at t = 0",
+            ));
+        }
+        Ok(Some(Scenario { impulse, tow }))
+    }
 }
 
 #[derive(Args)]
@@ -179,6 +238,7 @@ pub fn export_cmd(a: ExportArgs) -> CmdResult {
             return Err(ParamError::new("time", t, "finite times (s)").into());
         }
     }
+    let scenario = a.scenario()?;
     export::prepare_dir(&a.out)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(default_threads())
@@ -200,6 +260,19 @@ pub fn export_cmd(a: ExportArgs) -> CmdResult {
         // The whitecap coverage the renderer draws (the cascades' own foam above is eq. 51's).
         if cfg.whitecaps {
             written += export::write_whitecaps(&s.whitecaps, &a.out, &format!("t{t:.3}"))?.len();
+        }
+    }
+    if let Some(scenario) = scenario {
+        // The layer only runs forward: its times in order, each file named as asked.
+        let mut times = a.time.clone();
+        times.sort_by(f64::total_cmp);
+        let config = InteractionConfig::default_with_dt(vr_ocean::physics::PHYSICS_DT)?;
+        let mut run = ScenarioRun::new(config, scenario);
+        for t in times {
+            pool.install(|| run.advance_to(t));
+            let at = run.scenario().source_at(run.layer().time());
+            written +=
+                export::write_interaction(run.layer(), at, &a.out, &format!("t{t:.3}"))?.len();
         }
     }
     println!("wrote {written} files to {}", a.out.display());

@@ -151,3 +151,48 @@ pub fn write_whitecaps(
     written.push(path);
     Ok(written)
 }
+
+/// Writes the interaction layer's drawn height as `{stem}_interaction_height.npy` ([N, N]
+/// float32, row = z, column = x) and `{stem}_interaction.json` with `origin_x`, `origin_z`
+/// (world position of cell [0, 0], m), `cell_m`, `cells`, `source_x`, `source_z` (the drop
+/// point or the towed body at this time, m), `time` (s) and `energy_j`. Returns the files
+/// written.
+pub fn write_interaction(
+    layer: &crate::sim::interaction::InteractionLayer,
+    source: [f32; 2],
+    dir: &Path,
+    stem: &str,
+) -> Result<Vec<PathBuf>, ExportError> {
+    let n = layer.config().cells.n() as u64;
+    let path = dir.join(format!("{stem}_interaction_height.npy"));
+    write_atomically(&path, |out| {
+        use npyz::WriterBuilder;
+        let mut npy = npyz::WriteOptions::new()
+            .default_dtype()
+            .shape(&[n, n])
+            .writer(out)
+            .begin_nd()?;
+        npy.extend(layer.heights().iter().copied())?;
+        npy.finish()
+    })?;
+    let mut written = vec![path];
+    let [ox, oz] = layer.origin_m();
+    let path = dir.join(format!("{stem}_interaction.json"));
+    let json = serde_json::json!({
+        "origin_x": ox,
+        "origin_z": oz,
+        "cell_m": layer.config().cell_m,
+        "cells": n,
+        "source_x": source[0],
+        "source_z": source[1],
+        "time": layer.time(),
+        "energy_j": layer.stats().energy_j,
+    });
+    let text = serde_json::to_string_pretty(&json).map_err(|e| ExportError {
+        path: path.clone(),
+        source: io::Error::other(e),
+    })?;
+    super::write_bytes(&path, text.as_bytes())?;
+    written.push(path);
+    Ok(written)
+}

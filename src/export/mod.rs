@@ -8,7 +8,7 @@ use std::fs;
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-pub use fields::{write_cascade, write_whitecaps};
+pub use fields::{write_cascade, write_interaction, write_whitecaps};
 
 /// A file or directory that could not be written.
 #[derive(Debug)]

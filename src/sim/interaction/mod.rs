@@ -47,12 +47,15 @@
 //! element-wise or writes disjoint rows, so a step is bit-identical for any thread count.
 
 mod layer;
+pub mod measure;
 mod modes;
+pub mod scenario;
 mod source;
 #[cfg(test)]
 mod tests;
 
 pub use layer::{InteractionLayer, InteractionStats};
+pub use scenario::{Scenario, ScenarioRun};
 pub use source::WaveSource;
 
 use crate::base::ParamError;

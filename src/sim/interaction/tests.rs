@@ -1,6 +1,7 @@
 //! The layer against deep-water theory: Cauchy-Poisson rings, the Kelvin wake, the absorbing
 //! band, energy, determinism.
 
+use super::measure::{crests, radial_profile, ring_half_waves, wake_half_angle, FieldView};
 use super::*;
 
 const DT: f32 = 1.0 / 90.0;
@@ -31,82 +32,23 @@ fn run_to(l: &mut InteractionLayer, t: f32) {
     }
 }
 
-/// Azimuthal mean of the drawn height around world (x0, z0) in bins of `bin` m.
-fn radial_profile(l: &InteractionLayer, x0: f32, z0: f32, bin: f32, bins: usize) -> Vec<f32> {
-    let n = l.config().cells.n();
-    let cell = l.config().cell_m;
-    let [ox, oz] = l.origin_m();
-    let (mut sum, mut count) = (vec![0.0f64; bins], vec![0usize; bins]);
-    for r in 0..n {
-        for c in 0..n {
-            let (x, z) = (ox + c as f32 * cell - x0, oz + r as f32 * cell - z0);
-            let b = ((x * x + z * z).sqrt() / bin) as usize;
-            if b < bins {
-                sum[b] += l.heights()[r * n + c] as f64;
-                count[b] += 1;
-            }
-        }
-    }
-    sum.iter()
-        .zip(&count)
-        .map(|(s, &k)| if k > 0 { (*s / k as f64) as f32 } else { 0.0 })
-        .collect()
-}
-
-/// Zero crossings of a profile (interpolated radius, m).
-fn zero_crossings(p: &[f32], bin: f32) -> Vec<f32> {
-    let mut out = Vec::new();
-    for i in 1..p.len() {
-        if (p[i - 1] < 0.0) != (p[i] < 0.0) && p[i - 1] != p[i] {
-            let t = p[i - 1] / (p[i - 1] - p[i]);
-            out.push((i as f32 - 0.5 + t) * bin);
-        }
-    }
-    out
-}
-
 /// Cauchy-Poisson: after an impulsive drop the local wavelength at radius r and time t is
-/// 8π·r²/(g·t²) (stationary phase on ω² = g·k), within 15 % wherever the cells resolve it.
+/// 8π·r²/(g·t²) (stationary phase on ω² = g·k), within 15 % wherever the cells resolve it
+/// ([`ring_half_waves`]: from 0.68 m, where the 1 m sphere's footprint still has a good share
+/// of its long-wave amplitude, 4 cells).
 #[test]
 fn rings_obey_deep_water_dispersion() {
     let mut l = layer(256);
     l.step(&[drop_at(0.0, 0.0)]);
-    let bin = 0.04;
-    let mut checked = 0;
-    let mut worst: f32 = 0.0;
+    let (mut checked, mut worst) = (0, 0.0f32);
     for t_target in [3.0f32, 4.5, 6.0, 7.5] {
         run_to(&mut l, t_target);
         let t = l.time() as f32 + 0.5 * DT;
-        let p = radial_profile(&l, 0.0, 0.0, bin, (15.0 / bin) as usize);
-        let peak = p.iter().map(|v| v.abs()).fold(0.0, f32::max);
-        let z = zero_crossings(&p, bin);
-        for w in z.windows(2) {
-            let (a, b) = (w[0], w[1]);
-            let mid = 0.5 * (a + b);
-            let predicted = 8.0 * std::f32::consts::PI * mid * mid / (G * t * t);
-            let between = p[(a / bin) as usize..(b / bin) as usize]
-                .iter()
-                .map(|v| v.abs())
-                .fold(0.0, f32::max);
-            // The band where the formula applies: the source excites it (wavelengths from
-            // 0.68 m at the inner crossing: there the 1 m sphere's raised-cosine footprint still
-            // has a quarter of its long-wave amplitude, 4 cells), stationary phase holds (phase
-            // g·t²/(4r) at least 2π at the outer crossing), inside the absorbing band, with
-            // some amplitude.
-            let lambda_at = |r: f32| 8.0 * std::f32::consts::PI * r * r / (G * t * t);
-            let phase = G * t * t / (4.0 * b);
-            if lambda_at(a) < 0.68
-                || phase < std::f32::consts::TAU
-                || b > 14.0
-                || between < 0.03 * peak
-            {
-                continue;
-            }
-            let measured = 2.0 * (b - a);
-            let err = (measured / predicted - 1.0).abs();
+        for w in ring_half_waves(&FieldView::of(&l), 0.0, 0.0, t, G, 0.68, 14.0) {
+            let err = (w.measured / w.predicted - 1.0).abs();
             eprintln!(
-                "t {t:.2} r {mid:.2}: λ {measured:.3} vs {predicted:.3} ({err:.3}) amp {:.3} phase {phase:.1}",
-                between / peak
+                "t {t:.2} r {:.2}: λ {:.3} vs {:.3}",
+                w.inner, w.measured, w.predicted
             );
             worst = worst.max(err);
             checked += 1;
@@ -120,22 +62,6 @@ fn rings_obey_deep_water_dispersion() {
     assert!(worst < 0.15, "worst wavelength error {worst:.3}");
 }
 
-/// Local maxima of a profile above `floor` (radius, m; parabolic peak).
-fn crests(p: &[f32], bin: f32, floor: f32) -> Vec<f32> {
-    (1..p.len() - 1)
-        .filter(|&i| p[i] > floor && p[i] >= p[i - 1] && p[i] > p[i + 1])
-        .map(|i| {
-            let d = p[i - 1] - 2.0 * p[i] + p[i + 1];
-            let off = if d != 0.0 {
-                0.5 * (p[i - 1] - p[i + 1]) / d
-            } else {
-                0.0
-            };
-            (i as f32 + 0.5 + off) * bin
-        })
-        .collect()
-}
-
 /// A crest keeps its phase g·t²/(4r), so it runs out at dr/dt = 2r/t: faster the farther it
 /// is, not at one speed as in a plain wave equation.
 #[test]
@@ -146,12 +72,16 @@ fn crests_accelerate_outwards() {
     let bins = (12.0 / bin) as usize;
     run_to(&mut l, 5.0);
     let t0 = l.time() as f32 + 0.5 * DT;
-    let p0 = radial_profile(&l, 0.0, 0.0, bin, bins);
+    let p0 = radial_profile(&FieldView::of(&l), 0.0, 0.0, bin, bins);
     let floor = 0.15 * p0.iter().cloned().fold(0.0, f32::max);
     let before = crests(&p0, bin, floor);
     run_to(&mut l, 5.2);
     let t1 = l.time() as f32 + 0.5 * DT;
-    let after = crests(&radial_profile(&l, 0.0, 0.0, bin, bins), bin, 0.5 * floor);
+    let after = crests(
+        &radial_profile(&FieldView::of(&l), 0.0, 0.0, bin, bins),
+        bin,
+        0.5 * floor,
+    );
     let mut speeds = Vec::new();
     for &r in before.iter().filter(|&&r| r > 2.5) {
         // Where the crest should be, and the measured crest nearest to it.
@@ -179,8 +109,7 @@ fn sphere_at(x: f32, z: f32) -> WaveSource {
     WaveSource::floating_sphere(x, z, 1.0, 512.5)
 }
 
-/// The towed sphere's density (kg/m³): a fender ball, 10 % under.
-const TOWED_DENSITY: f32 = 100.0;
+use super::scenario::TOWED_DENSITY;
 
 /// Tows a 1 m sphere along +x at `speed` for `seconds`, the layer following it; returns the
 /// layer and the sphere's final x.
@@ -195,54 +124,8 @@ fn tow(speed: f32, density: f32, seconds: f32) -> (InteractionLayer, f32) {
     (l, x)
 }
 
-/// Mean square height of the wake behind a source at (x0, 0) over downstream distances
-/// `near..far` m, per half-degree of angle from the track (0-45°).
-fn wake_profile(l: &InteractionLayer, x0: f32, near: f32, far: f32) -> Vec<f32> {
-    let n = l.config().cells.n();
-    let cell = l.config().cell_m;
-    let [ox, oz] = l.origin_m();
-    let (mut sum, mut count) = ([0.0f64; 90], [0usize; 90]);
-    for r in 0..n {
-        for c in 0..n {
-            let (d, y) = (x0 - (ox + c as f32 * cell), (oz + r as f32 * cell).abs());
-            if d < near || d > far {
-                continue;
-            }
-            let b = (1.0 * y.atan2(d).to_degrees()) as usize;
-            if b < 90 {
-                let h = l.heights()[r * n + c] as f64;
-                sum[b] += h * h;
-                count[b] += 1;
-            }
-        }
-    }
-    (0..90)
-        .map(|b| {
-            if count[b] > 0 {
-                (sum[b] / count[b] as f64) as f32
-            } else {
-                0.0
-            }
-        })
-        .collect()
-}
-
-/// The wake's edge (degrees): outward from the angular profile's peak, where its mean square
-/// falls to 0.44 of the peak. In the Airy-function theory of the cusp the caustic (the
-/// geometric Kelvin line) carries Ai(0)²/max Ai² = 0.44 of the peak intensity just inside it.
-fn wake_edge(profile: &[f32]) -> f32 {
-    let peak = (0..profile.len())
-        .max_by(|&a, &b| profile[a].total_cmp(&profile[b]))
-        .unwrap();
-    let level = 0.44 * profile[peak];
-    let i = (peak..profile.len()).find(|&i| profile[i] < level).unwrap();
-    // Bin i − 1 is at or above the level, bin i below: interpolate between their centres.
-    let t = (profile[i - 1] - level) / (profile[i - 1] - profile[i]);
-    i as f32 - 0.5 + t
-}
-
 /// Kelvin: a body towed at a length Froude number U/√(g·L) ≤ 0.4 leaves a wake whose
-/// half-angle is 19.47° (arcsin 1/3), measured at its edge ([`wake_edge`]) 3-15 m behind it.
+/// half-angle is 19.47° (arcsin 1/3), measured at its edge ([`wake_half_angle`]).
 /// The sphere is a light float (`TOWED_DENSITY`): a half-submerged one raises waves steep
 /// enough to break, and the breaking, not the dispersion, then shapes the wake (measured:
 /// 16-20° at 250 kg/m³, the wake lost in foam near the track at 512 kg/m³ and 1.2 m/s).
@@ -251,7 +134,7 @@ fn towed_sphere_leaves_a_kelvin_wake() {
     for speed in [1.0f32, 1.1, 1.2, 1.25] {
         let froude = speed / (G * 1.0).sqrt();
         let (l, x) = tow(speed, TOWED_DENSITY, 20.0);
-        let angle = wake_edge(&wake_profile(&l, x, 3.0, 15.0));
+        let angle = wake_half_angle(&FieldView::of(&l), x, 0.0).unwrap();
         eprintln!("U {speed} m/s (Fr {froude:.2}): half-angle {angle:.1}°");
         assert!(
             (angle - 19.47).abs() <= 3.0,
