@@ -65,7 +65,7 @@ fn interaction_steps_do_not_allocate() {
             let cfg = InteractionConfig::default_with_dt(1.0 / 90.0).unwrap();
             let mut layer = InteractionLayer::new(cfg, 0.0, 0.0);
             let mut x = 0.0;
-            let mut step = |layer: &mut InteractionLayer, x: &mut f32| {
+            let step = |layer: &mut InteractionLayer, x: &mut f32| {
                 *x += 0.05;
                 layer.recentre(*x, 0.0);
                 let mut s = WaveSource::floating_sphere(*x, 0.0, 1.0, 300.0);
