@@ -51,6 +51,7 @@ pub mod error;
 pub mod hands;
 pub mod interact;
 pub mod spawn;
+pub mod wakes;
 pub mod water;
 mod world;
 

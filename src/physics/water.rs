@@ -238,6 +238,18 @@ impl WaterSamples {
         }
     }
 
+    /// This step's point `i` [x, z] (m).
+    #[inline]
+    pub fn point(&self, i: usize) -> [f32; 2] {
+        self.points[i]
+    }
+
+    /// Adds `dh` (m) to the height at this step's point `i` (the interaction layer's waves).
+    #[inline]
+    pub fn add_height(&mut self, i: usize, dh: f32) {
+        self.heights[i] += dh;
+    }
+
     /// Height at this step's point `i` (m).
     #[inline]
     pub fn height(&self, i: usize) -> f32 {

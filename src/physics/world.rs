@@ -13,6 +13,7 @@ use crate::physics::buoyancy::{self, Motion, Water, ADDED_MASS_COEFFICIENT};
 use crate::physics::clock::{FixedClock, Ticks};
 use crate::physics::convert::{from_rapier, pose_from_rapier, pose_to_rapier, to_rapier};
 use crate::physics::error::PhysicsError;
+use crate::physics::wakes::Wakes;
 use crate::physics::water::{key, WaterSamples};
 use crate::physics::{DeckSpec, PhysicsConfig, Pose, MAX_BODIES, PHYSICS_DT};
 use crate::sim::Surfaces;
@@ -106,6 +107,8 @@ pub struct Floaters {
     alpha: f32,
     steps: u64,
     pub(crate) throws: u64,
+    /// The interaction layer and its sources, when on ([`Floaters::set_interaction`]).
+    pub(crate) wakes: Option<Wakes>,
 }
 
 impl Floaters {
@@ -135,6 +138,7 @@ impl Floaters {
             alpha: 0.0,
             steps: 0,
             throws: 0,
+            wakes: None,
         })
     }
 
@@ -296,6 +300,17 @@ impl Floaters {
             }
         }
         self.water.query(surfaces);
+        if let Some(w) = &self.wakes {
+            for (i, s) in self.slots.iter().enumerate() {
+                if s.state == BodyState::Floating {
+                    for c in 0..s.hull.columns().len() {
+                        let k = s.first_sample + c;
+                        self.water
+                            .add_height(k, w.height_for(i, self.water.point(k)));
+                    }
+                }
+            }
+        }
 
         // 2. Forces.
         let water = Water {
@@ -376,6 +391,16 @@ impl Floaters {
                 s.hold = None;
                 self.water.forget(i);
             }
+        }
+
+        // 5. The interaction layer: the bodies' new poses press and splash it.
+        if let Some(w) = &mut self.wakes {
+            let bodies = &self.world.bodies;
+            w.step(&self.slots, |s| {
+                bodies
+                    .get(s.handle)
+                    .map_or(Vec3::ZERO, |rb| from_rapier(rb.linvel()))
+            });
         }
     }
 

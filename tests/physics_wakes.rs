@@ -1,0 +1,109 @@
+//! Bodies feel each other's waves through the interaction layer: a buoy 3 m from where a
+//! crate plunges in heaves measurably more than without the layer, on a flat sea and on a
+//! light breeze's sea; and a body at rest keeps its draft with the layer on (its own hollow is
+//! not counted against it).
+
+use glam::{Vec2, Vec3};
+use vr_ocean::physics::{BodyId, BodySpec, Floaters, PhysicsConfig, Pose, PHYSICS_DT};
+use vr_ocean::sim::interaction::InteractionConfig;
+use vr_ocean::sim::{OceanConfig, SimCore, Surfaces};
+
+/// A world without a deck, with a buoy at (3, 0, 0) and, after it settled for `settle` s, a
+/// 0.6 m crate dropped from 2 m above the water at the origin. Returns the buoy's heights
+/// (m) over the `seconds` after the drop, the sea stepped at `wind` m/s (0: flat).
+fn buoy_heave(interaction: bool, wind: f32, settle: f32, seconds: f32) -> (Vec<f32>, Floaters) {
+    let mut cfg = OceanConfig::default_cascades(64).unwrap();
+    if wind > 0.0 {
+        cfg.waves.wind_speed = wind;
+    }
+    let mut core = SimCore::new(cfg.clone()).unwrap();
+    let mut surfaces = Surfaces::new(&cfg);
+    let mut world = Floaters::new(PhysicsConfig {
+        deck: None,
+        ..PhysicsConfig::default()
+    })
+    .unwrap();
+    if interaction {
+        let c = InteractionConfig::default_with_dt(PHYSICS_DT).unwrap();
+        world.set_interaction(Some(c), Vec2::ZERO);
+    }
+    let buoy = world
+        .spawn(
+            BodySpec::buoy(0.6, 0.8, 300.0).unwrap(),
+            Pose::at(Vec3::new(3.0, 0.0, 0.0)),
+        )
+        .unwrap();
+    let mut t = 0.0f64;
+    let mut step = |world: &mut Floaters, surfaces: &mut Surfaces| {
+        t += PHYSICS_DT as f64;
+        if wind > 0.0 {
+            core.step(t, surfaces);
+        }
+        world.step(surfaces);
+    };
+    for _ in 0..(settle / PHYSICS_DT) as usize {
+        step(&mut world, &mut surfaces);
+    }
+    let crate_id = world
+        .spawn(
+            BodySpec::crate_box(Vec3::splat(0.6), 600.0).unwrap(),
+            Pose::at(Vec3::new(0.0, 2.0, 0.0)),
+        )
+        .unwrap();
+    let mut heights = Vec::new();
+    for _ in 0..(seconds / PHYSICS_DT) as usize {
+        step(&mut world, &mut surfaces);
+        heights.push(y(&world, buoy));
+    }
+    assert!(y(&world, crate_id) > -1.0, "the crate floats");
+    (heights, world)
+}
+
+fn y(world: &Floaters, id: BodyId) -> f32 {
+    world.pose(id).unwrap().position.y
+}
+
+/// Peak-to-peak of a series (m).
+fn range(v: &[f32]) -> f32 {
+    v.iter().cloned().fold(f32::MIN, f32::max) - v.iter().cloned().fold(f32::MAX, f32::min)
+}
+
+/// On a flat sea the buoy's heave is the rings' alone; on a 4 m/s sea (the same sea, the same
+/// bits, with and without the layer) the rings' part is the difference of the two runs.
+#[test]
+fn a_buoy_heaves_in_a_splash_s_rings() {
+    let (without, _) = buoy_heave(false, 0.0, 5.0, 8.0);
+    let (with, world) = buoy_heave(true, 0.0, 5.0, 8.0);
+    let (a, b) = (range(&without), range(&with));
+    let energy = world.interaction().unwrap().stats().energy_j;
+    println!(
+        "flat sea: buoy heave {a:.4} m without the layer, {b:.4} m with it ({energy:.2e} J left)"
+    );
+    assert!(b > a + 0.03 && b > 3.0 * a, "{b} vs {a}");
+
+    let (without, _) = buoy_heave(false, 4.0, 5.0, 8.0);
+    let (with, _) = buoy_heave(true, 4.0, 5.0, 8.0);
+    let extra = without
+        .iter()
+        .zip(&with)
+        .map(|(a, b)| (a - b).powi(2))
+        .sum::<f32>()
+        / with.len() as f32;
+    let sea = range(&without);
+    println!(
+        "4 m/s sea: buoy heave {sea:.3} m; the rings add {:.4} m rms",
+        extra.sqrt()
+    );
+    assert!(extra.sqrt() > 0.01, "{}", extra.sqrt());
+}
+
+/// A body at rest keeps its draft with the layer on: its own hollow is added back to the
+/// heights it reads (within 1 cm of the draft without the layer).
+#[test]
+fn a_body_at_rest_keeps_its_draft() {
+    let (without, _) = buoy_heave(false, 0.0, 8.0, 0.1);
+    let (with, _) = buoy_heave(true, 0.0, 8.0, 0.1);
+    let (a, b) = (without[0], with[0]);
+    println!("buoy at rest: y {a:.4} m without the layer, {b:.4} m with it");
+    assert!((a - b).abs() < 0.01, "{a} vs {b}");
+}
