@@ -46,7 +46,25 @@ layout(set = 0, binding = 0, std140) uniform Globals {
     // rgb: the radiance of a white Lambertian surface facing up, lit by the sun and the sky
     // (horizontal illuminance / π, kcd/m²): the water body's, foam's and bubbles' light scale.
     vec4 diffuse;
+    // The interaction layer (`sim::interaction`): world x, z of its cell (0, 0) (m), 1 / its
+    // side (1/m), half a cell in texture units (w; negative: no layer).
+    vec4 interaction;
+    // x, y: the distances (m) where the layer's displacement of the mesh starts and ends fading.
+    vec4 interaction_fade;
 } g;
+
+// The interaction layer (`render::ocean::interaction`): h (m), ∂h/∂x, ∂h/∂z, foam; clamped,
+// zero at its edges.
+layout(set = 0, binding = 7) uniform mediump sampler2D u_interaction;
+
+// The layer at world `xz`, zero without one.
+mediump vec4 interaction_at(vec2 xz) {
+    if (g.interaction.w < 0.0) {
+        return vec4(0.0);
+    }
+    return textureLod(u_interaction, (xz - g.interaction.xy) * g.interaction.z + g.interaction.w,
+                      0.0);
+}
 
 const float PI = 3.14159265;
 

@@ -287,13 +287,15 @@ struct Water {
 // cascade for the supersampled highlight, which replaces only the minified ones.
 struct PixelCascades {
     CascadeSample c[MAX_CASCADES];
+    // The interaction layer's slope (n.xz / n.y, as a cascade's: −∇h) at the pixel.
+    mediump vec2 layer_slope;
 };
 
 // Sums the cascades' slopes, combines foam as independent coverage, keeps the roughest
 // smoothness.
 Water water_of(PixelCascades p, int cascades) {
     Water w;
-    mediump vec2 slope = vec2(0.0);
+    mediump vec2 slope = p.layer_slope;
     mediump float clear = 1.0;
     w.smoothness = 1.0;
     w.filtered = 0.0;
@@ -444,7 +446,7 @@ vec3 supersampled_surface(PixelCascades p, int cascades, bool resample[MAX_CASCA
                           SunView sv, float unshown, mediump float coverage) {
     vec2 hx = dx * (1.0 / 3.0);
     vec2 hy = dy * (1.0 / 3.0);
-    mediump vec2 pixel_slope = vec2(0.0);
+    mediump vec2 pixel_slope = p.layer_slope;
     UNROLL for (int c = 0; c < MAX_CASCADES; ++c) {
         if (c < cascades) {
             pixel_slope += p.c[c].slope;
@@ -505,6 +507,8 @@ void main() {
     int cascades = CASCADE_COUNT;
     float half_texel = g.derived.z;
     PixelCascades p;
+    mediump vec4 layer = interaction_at(v_xz);
+    p.layer_slope = -layer.yz;
     UNROLL for (int c = 0; c < MAX_CASCADES; ++c) {
         if (c < cascades) {
             vec2 uv = v_xz * g.inv_patch_size[c] + half_texel;
@@ -522,6 +526,8 @@ void main() {
     // (both are zero at zero coverage); explicit gradients keep them valid in this branch.
     Foam f;
     f.coverage = g.whitecaps[1].w < 0.0 ? w.foam : whitecap_coverage(v_xz, dx, dy);
+    // The interaction layer's foam (splashes, breaking ripples) as independent coverage.
+    f.coverage = 1.0 - (1.0 - f.coverage) * (1.0 - layer.w);
     f.drawn = 0.0;
     f.bubbles = 0.0;
     if (TAKES_FOAM(f.coverage > 0.0)) {

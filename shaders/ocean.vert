@@ -149,6 +149,9 @@ vec4 ocean_vertex(uint eye) {
             disp += fade * textureLod(u_displacement, vec3(uv, float(c)), 0.0).xyz;
         }
     }
+    // The interaction layer's waves (rings, wakes), faded from the mesh like a cascade.
+    disp.y += (1.0 - smoothstep(g.interaction_fade.x, g.interaction_fade.y, d))
+        * interaction_at(p).x;
     vec3 world = vec3(p.x, 0.0, p.y) + disp;
     v_world = world;
     v_xz = p;

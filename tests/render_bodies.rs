@@ -5,7 +5,8 @@
 mod common;
 
 use common::gpu::{self, Frame};
-use vr_ocean::app::{DeckPlacement, FloatOptions, RunReport};
+use vr_ocean::app::{interaction_for, DeckPlacement, FloatOptions, RunReport};
+use vr_ocean::lod::QualityPreset;
 use vr_ocean::physics::BodyCount;
 use vr_ocean::render::StereoMode;
 
@@ -19,6 +20,7 @@ fn render(stereo: StereoMode, bodies: Option<usize>) -> (RunReport, Frame) {
     opts.floating = bodies.map(|n| FloatOptions {
         bodies: BodyCount::new(n).unwrap(),
         deck: DeckPlacement::UnderViewer,
+        interaction: Some(interaction_for(QualityPreset::High)),
     });
     // On the deck (eyes 1.7 m above its top at 2.8 m), looking down at the water beside it.
     let path = gpu::standing(4.5, 20.0, -22.0);

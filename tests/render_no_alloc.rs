@@ -5,7 +5,8 @@
 mod common;
 
 use common::gpu;
-use vr_ocean::app::{DeckPlacement, FloatOptions, RunHooks};
+use vr_ocean::app::{interaction_for, DeckPlacement, FloatOptions, RunHooks};
+use vr_ocean::lod::QualityPreset;
 use vr_ocean::physics::{BodyCount, PHYSICS_HZ};
 use vr_ocean::render::StereoMode;
 use vr_ocean::xr::FrameState;
@@ -55,6 +56,7 @@ fn steady_state_allocations(stereo: StereoMode, bodies: Option<usize>) -> usize 
     opts.floating = bodies.map(|n| FloatOptions {
         bodies: BodyCount::new(n).unwrap(),
         deck: DeckPlacement::At(2.9),
+        interaction: Some(interaction_for(QualityPreset::High)),
     });
     let mut hooks = CountFrames {
         from: 40,

@@ -3,7 +3,7 @@
 //! runtime's system name), no validation layer (the APK ships none), cascades over a 2048 m
 //! ocean, and as many simulation workers as the performance cores allow (`sim::workers`).
 
-use crate::app::{DeckPlacement, FloatOptions, GovernorOptions, RunOptions};
+use crate::app::{interaction_for, DeckPlacement, FloatOptions, GovernorOptions, RunOptions};
 use crate::base::ParamError;
 use crate::lod::{LodSettings, OceanSize, QualityPreset};
 use crate::physics::{BodyCount, DEFAULT_DECK_HEIGHT};
@@ -55,6 +55,7 @@ pub fn run_options(
         floating: Some(FloatOptions {
             bodies: BodyCount::DEFAULT,
             deck: DeckPlacement::At(DEFAULT_DECK_HEIGHT),
+            interaction: Some(interaction_for(preset)),
         }),
         // On a headset the GPU-time governor is always on, its budget the frame period.
         governor: GovernorOptions {

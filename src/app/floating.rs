@@ -14,12 +14,14 @@ use std::time::Duration;
 
 use glam::{Vec2, Vec3};
 
+use crate::lod::QualityPreset;
 use crate::physics::hands::GRAB_REACH;
 use crate::physics::{
     BodyCount, BodyKind, Floaters, Hand, HandEvent, HandInput, HandState, PhysicsConfig,
-    PhysicsError,
+    PhysicsError, PHYSICS_DT,
 };
 use crate::render::ocean::{Solid, SolidKind, MAX_SOLIDS};
+use crate::sim::interaction::InteractionConfig;
 use crate::sim::Surfaces;
 use crate::xr::FrameState;
 
@@ -61,6 +63,20 @@ pub struct FloatOptions {
     pub bodies: BodyCount,
     /// Where the deck goes.
     pub deck: DeckPlacement,
+    /// The interaction layer (splashes, rings, wakes), or `None` for off.
+    pub interaction: Option<InteractionConfig>,
+}
+
+/// The interaction layer for a quality preset: 256² cells of 0.16 m (41 m) from `High` up,
+/// 128² of 0.24 m (31 m) at `Medium` (the Quest's), 128² of 0.32 m (41 m) at `Low`. A 128²
+/// step costs about a fifth of a 256² one (`benches/interaction.rs`).
+pub fn interaction_for(preset: QualityPreset) -> InteractionConfig {
+    let (cells, cell_m) = match preset {
+        QualityPreset::Low => (128, 0.32),
+        QualityPreset::Medium => (128, 0.24),
+        QualityPreset::High | QualityPreset::Ultra => (256, 0.16),
+    };
+    InteractionConfig::new(cells, cell_m, PHYSICS_DT).expect("the presets' layers are valid")
 }
 
 /// The physics world of a run and what it draws.
@@ -69,6 +85,8 @@ pub struct Afloat {
     /// Made on the first frame.
     world: Option<Floaters>,
     hands: [Hand; 2],
+    /// Whether each hand was in the water last frame (a haptic tick as it goes in).
+    wet: [bool; 2],
     solids: Vec<Solid>,
 }
 
@@ -82,6 +100,7 @@ impl Afloat {
             opts: *opts,
             world: None,
             hands: [Hand::new(); 2],
+            wet: [false; 2],
             solids: Vec::with_capacity(MAX_SOLIDS),
         })
     }
@@ -109,13 +128,14 @@ impl Afloat {
             }
         }
         let mut world = Floaters::new(config)?;
+        world.set_interaction(self.opts.interaction, Vec2::new(viewer.x, viewer.z));
         world.spawn_around(self.opts.bodies, Vec2::new(viewer.x, viewer.z), surfaces)?;
         Ok(world)
     }
 
     /// One frame: spawn (first frame), hands, fixed steps for the frame's period on
     /// `surfaces`, respawn what drifted away, and this frame's solids. Returns the hands that
-    /// grabbed something this frame (a haptic tick each).
+    /// grabbed something or went into the water this frame (a haptic tick each).
     pub fn advance(
         &mut self,
         frame: &FrameState,
@@ -128,8 +148,18 @@ impl Afloat {
         };
         let world = self.world.insert(world);
         let mut ticks = [false; 2];
-        for ((hand, input), tick) in self.hands.iter_mut().zip(&frame.hands).zip(&mut ticks) {
+        world.follow(Vec2::new(viewer.x, viewer.z));
+        for (i, ((hand, input), tick)) in self
+            .hands
+            .iter_mut()
+            .zip(&frame.hands)
+            .zip(&mut ticks)
+            .enumerate()
+        {
             *tick = drive_hand(world, hand, input.as_ref());
+            let wet = input.is_some_and(|input| world.dip(&input, surfaces));
+            *tick |= wet && !self.wet[i];
+            self.wet[i] = wet;
         }
         world.advance(Duration::from_secs_f64(frame.period.max(0.0)), surfaces);
         world.bring_back(Vec2::new(viewer.x, viewer.z), RESPAWN_DISTANCE, surfaces);

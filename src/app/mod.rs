@@ -18,7 +18,7 @@ use crate::render::readback::Readback;
 use crate::render::{self, OceanRenderer, RenderError, RendererSettings};
 use crate::sim::{OceanConfig, SimError, Simulation};
 use crate::xr::{FrameLoop, FrameState, Tweak, XrError};
-pub use floating::{Afloat, DeckPlacement, FloatOptions};
+pub use floating::{interaction_for, Afloat, DeckPlacement, FloatOptions};
 pub use govern::{GovernorChange, GovernorOptions, GpuFault};
 pub use timing::{FrameTimes, Percentiles, Timing};
 
@@ -228,8 +228,14 @@ impl<'a> Frames<'a> {
         let lod = OceanLod::new(opts.lod);
         let sim = Simulation::new(opts.ocean.clone(), opts.threads)?;
         let afloat = opts.floating.as_ref().map(Afloat::new).transpose()?;
-        let mut renderer =
-            OceanRenderer::new(xr.gpu(), &opts.ocean, &lod, xr.targets(), opts.renderer)?;
+        // The renderer draws the interaction layer the floating bodies will make.
+        let mut settings = opts.renderer;
+        settings.interaction = opts
+            .floating
+            .as_ref()
+            .and_then(|f| f.interaction)
+            .map(|c| c.cells);
+        let mut renderer = OceanRenderer::new(xr.gpu(), &opts.ocean, &lod, xr.targets(), settings)?;
         let readback = if opts.capture.is_empty() {
             None
         } else {
@@ -373,6 +379,11 @@ impl<'a> Frames<'a> {
                 lod: &self.lod,
                 surfaces: self.sim.surfaces(),
                 solids: self.afloat.as_ref().map_or(&[], |a| a.solids()),
+                interaction: self
+                    .afloat
+                    .as_ref()
+                    .and_then(|a| a.world())
+                    .and_then(|w| w.interaction()),
             },
         )?;
         self.xr.release_image()?;

@@ -3,7 +3,7 @@
 
 use clap::{Args, ValueEnum};
 
-use vr_ocean::app::{GovernorOptions, GpuFault, RunOptions};
+use vr_ocean::app::{self as app, GovernorOptions, GpuFault, RunOptions};
 use vr_ocean::base::ParamError;
 use vr_ocean::lod::{LodSettings, OceanSize, QualityPreset};
 use vr_ocean::physics::{BodyCount, PhysicsError};
@@ -12,6 +12,7 @@ use vr_ocean::render::sky::SunSky;
 use vr_ocean::render::{
     ContextOptions, GpuContext, Msaa, RendererSettings, StereoMode, Validation,
 };
+use vr_ocean::sim::interaction::InteractionConfig;
 use vr_ocean::sim::{
     Derivatives, FoamParams, GridSize, OceanConfig, PatchFit, SpectrumKind, WaveParams,
     DEFAULT_DERIVATIVES, DEFAULT_FETCH_KM, DEFAULT_GAMMA, DEFAULT_PATCH_SIZES,
@@ -209,6 +210,10 @@ pub struct ViewArgs {
     /// 0 to 64 (0 = none).
     #[arg(long, default_value_t = DEFAULT_BODIES)]
     pub bodies: usize,
+    /// The interaction layer: splashes, rings and wakes from the bodies and hands, sized by
+    /// the preset (256² cells of 0.16 m from high up, 128² at medium and low).
+    #[arg(long, value_enum, default_value_t = OnOff::On)]
+    pub interaction: OnOff,
     /// Sun elevation above the horizon (degrees, -10 to 90; below 0 is twilight) [default:
     /// 17.5, a late-afternoon sun].
     #[arg(long, allow_negative_numbers = true)]
@@ -358,6 +363,11 @@ impl ViewArgs {
     /// bodies (0 = none)".
     pub fn bodies(&self) -> Result<BodyCount, PhysicsError> {
         BodyCount::new(self.bodies)
+    }
+
+    /// The interaction layer `--interaction` and `--preset` ask for.
+    pub fn interaction(&self) -> Option<InteractionConfig> {
+        (self.interaction == OnOff::On).then(|| app::interaction_for(preset(self.preset)))
     }
 
     pub fn context(&self) -> ContextOptions {

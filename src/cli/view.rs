@@ -173,6 +173,7 @@ pub fn headless_cmd(a: HeadlessArgs) -> CmdResult {
     opts.floating = Some(FloatOptions {
         bodies,
         deck: DeckPlacement::UnderViewer,
+        interaction: a.view.interaction(),
     });
     export::prepare_dir(&a.out)?;
     let mut xr = HeadlessXr::new(&a.view.context(), size, path, a.frames)?.settle(settle);
@@ -251,6 +252,7 @@ pub fn window_cmd(a: WindowArgs, fallback: bool) -> CmdResult {
     opts.floating = Some(FloatOptions {
         bodies,
         deck: DeckPlacement::UnderViewer,
+        interaction: a.view.interaction(),
     });
     if let Some(shot) = &a.screenshot {
         let dir = shot.parent().filter(|d| !d.as_os_str().is_empty());
@@ -312,6 +314,7 @@ pub fn xr_cmd(a: XrArgs) -> CmdResult {
     opts.floating = Some(FloatOptions {
         bodies,
         deck: DeckPlacement::At(a.deck_height),
+        interaction: a.view.interaction(),
     });
     // The headset path governs GPU time unless told not to.
     opts.governor = a.view.governor(true)?;

@@ -3,21 +3,35 @@
 //! body's heights include the layer's waves, so a buoy rocks in a thrown crate's rings and in
 //! a drifting boat's wake. Hands (OpenXR controllers in the water) add their own sources.
 //!
-//! A body's own hollow (the layer's steady answer to its own weight) is added back to the
-//! heights it reads ([`WaveSource::head_at`]): without that it would sink into it, deepen it,
-//! and sink further.
+//! A body's own hollow (the layer's steady answer to its own weight) is taken out of the
+//! heights it reads ([`Wakes::height_for`]): reading it, it would sink into it, deepen it and
+//! sink further. What is taken out is at most what the layer is lowered: while the hollow
+//! forms after an entry, the body is not lifted by water that is not there. (Reading only the
+//! layer on a circle around the body instead was tried: a buoy then excited itself into
+//! 0.3 m oscillations.)
 //!
 //! Sources are made after rapier's step from the new poses: the layer then steps once per
 //! physics step, so its waves are at most one step (11 ms) behind the bodies.
 
 use glam::{Vec2, Vec3};
 
+use super::hands::HandInput;
 use super::world::{BodyState, Floaters, Slot};
 use super::MAX_BODIES;
 use crate::sim::interaction::{InteractionConfig, InteractionLayer, WaveSource};
+use crate::sim::Surfaces;
 
 /// Most hand sources a step takes (two controllers, room to spare).
 pub const MAX_HAND_SOURCES: usize = 4;
+
+/// A hand's volume in the water, with its wrist (m³).
+pub const HAND_VOLUME: f32 = 6.0e-4;
+
+/// A hand's radius (m).
+pub const HAND_RADIUS: f32 = 0.06;
+
+/// A hand's cross-section against the water when it sweeps (m²).
+pub const HAND_AREA: f32 = 0.015;
 
 /// A body's vertical speed (m/s) at which its entry makes full foam.
 const FOAM_ENTRY_SPEED: f32 = 3.0;
@@ -43,11 +57,17 @@ impl Wakes {
         }
     }
 
-    /// The layer's height at `p` for the body in `slot`: the waves, without its own hollow.
+    /// The layer's height at `p` for the body in `slot`, less its own hollow: at most the
+    /// hollow's depth there ([`WaveSource::head_at`] of the source it put in last), and no
+    /// more than the layer is actually lowered there (while the hollow forms, after an
+    /// entry, the body must not be lifted by water that is not there).
     pub(crate) fn height_for(&self, slot: usize, p: [f32; 2]) -> f32 {
         let h = self.layer.height_at(p[0], p[1]);
         match &self.own[slot] {
-            Some(s) => h + s.head_at(p[0], p[1], self.layer.config().cell_m),
+            Some(s) => {
+                let hollow = s.head_at(p[0], p[1], self.layer.config().cell_m);
+                h + hollow.min((-h).max(0.0))
+            }
             None => h,
         }
     }
@@ -109,13 +129,45 @@ impl Floaters {
         }
     }
 
-    /// Adds a hand's disturbance to the next step (dropped beyond [`MAX_HAND_SOURCES`] a
-    /// step, or when the layer is off).
+    /// Adds a disturbance to the next step (dropped beyond [`MAX_HAND_SOURCES`] a step, or
+    /// when the layer is off).
     pub fn disturb(&mut self, source: WaveSource) {
         if let Some(w) = &mut self.wakes {
             if w.hands.len() < MAX_HAND_SOURCES && source.is_valid() {
                 w.hands.push(source);
             }
         }
+    }
+
+    /// A hand (controller) at `input` in the water of `surfaces`: when it is below the surface
+    /// (the sea's and the layer's height), its disturbance goes into the next step and this
+    /// returns true. The hand presses with its volume and, moving, with its dynamic pressure
+    /// ρv²/2 over its cross-section; plunging in, it pushes the water down.
+    pub fn dip(&mut self, input: &HandInput, surfaces: &Surfaces) -> bool {
+        let Some(w) = &self.wakes else {
+            return false;
+        };
+        let p = input.pose.position;
+        if !p.is_finite() || !input.linvel.is_finite() {
+            return false;
+        }
+        let surface = surfaces.height_at(p.x, p.z) + w.layer.height_at(p.x, p.z);
+        let depth = surface - p.y;
+        if depth.is_nan() || depth <= 0.0 {
+            return false;
+        }
+        let v = input.linvel;
+        let g = self.config().gravity;
+        let dynamic = HAND_AREA * v.length_squared() / (2.0 * g);
+        self.disturb(WaveSource {
+            x: p.x,
+            z: p.z,
+            radius: HAND_RADIUS,
+            depth: (0.5 * depth).min(HAND_RADIUS),
+            volume: HAND_VOLUME + dynamic,
+            impulse: 0.5 * (-v.y).max(0.0) * HAND_RADIUS,
+            foam: ((-v.y).max(0.0) / FOAM_ENTRY_SPEED * 0.3).min(0.3),
+        });
+        true
     }
 }

@@ -300,13 +300,21 @@ impl Floaters {
             }
         }
         self.water.query(surfaces);
+        // The interaction layer's waves (not the body's own hollow: `wakes`).
         if let Some(w) = &self.wakes {
             for (i, s) in self.slots.iter().enumerate() {
                 if s.state == BodyState::Floating {
-                    for c in 0..s.hull.columns().len() {
-                        let k = s.first_sample + c;
-                        self.water
-                            .add_height(k, w.height_for(i, self.water.point(k)));
+                    // Their mean over the hull lifts and lowers it; their tilt is not applied
+                    // (the hollow's own asymmetry as the body moves pushed a buoy 4 m in 20 s).
+                    let n = s.hull.columns().len();
+                    let range = s.first_sample..s.first_sample + n;
+                    let mean = range
+                        .clone()
+                        .map(|k| w.height_for(i, self.water.point(k)))
+                        .sum::<f32>()
+                        / n.max(1) as f32;
+                    for k in range {
+                        self.water.add_height(k, mean);
                     }
                 }
             }

@@ -76,6 +76,12 @@ pub struct Globals {
     /// The radiance of a white Lambertian surface facing up (rgb, kcd/m²): the horizontal
     /// illuminance of the sun and the sky over π.
     pub diffuse: [f32; 4],
+    /// The interaction layer ([`crate::sim::interaction`]): world x, z of its cell (0, 0)
+    /// (m), 1 / its side (1/m) and half a cell in texture units (w; negative: no layer).
+    pub interaction: [f32; 4],
+    /// The distances (m) where the layer's displacement of the mesh starts and ends fading
+    /// (x, y), as a cascade's (its waves would alias on the coarser mesh beyond).
+    pub interaction_fade: [f32; 4],
 }
 
 impl Globals {

@@ -37,8 +37,8 @@ pub struct Pipelines {
     /// swapchain image must be in when released).
     pub render_pass: vk::RenderPass,
     /// Set 0: globals (binding 0), displacement (1), normal/foam (2), whitecaps (3), sky (4),
-    /// foam pattern (5), and the path tally (6: a storage buffer only the counting variant of
-    /// the fragment shader uses; unwritten otherwise).
+    /// foam pattern (5), the path tally (6: a storage buffer only the counting variant of
+    /// the fragment shader uses; unwritten otherwise) and the interaction layer (7).
     pub set_layout: vk::DescriptorSetLayout,
     /// The layout all pipelines share.
     pub layout: vk::PipelineLayout,
@@ -140,6 +140,13 @@ impl Pipelines {
                 .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
                 .descriptor_count(1)
                 .stage_flags(vk::ShaderStageFlags::FRAGMENT),
+            // The interaction layer (`ocean::interaction`): heights in the vertex shader,
+            // slopes and foam in the fragment shader.
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(7)
+                .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT),
             // The path tally of the counting variant (`ocean::probe`).
             vk::DescriptorSetLayoutBinding::default()
                 .binding(6)

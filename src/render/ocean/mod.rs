@@ -5,6 +5,7 @@
 //!
 //! - `slots`: the frames-in-flight ring (what the CPU writes per frame);
 //! - `textures`: the cascade textures, their samplers and the upload;
+//! - `interaction`: the interaction layer's texture, uploaded each frame it stepped;
 //! - `sky_map`: the sky's prefiltered environment map and its light, baked when the sun moves;
 //! - `foam_pattern`: the tiling foam texture the whitecap coverage thresholds, made at start-up;
 //! - `upload`: the one-time copies of textures made on the CPU;
@@ -25,6 +26,7 @@
 //!   (tested by injecting a failure at each creation in turn).
 
 mod foam_pattern;
+mod interaction;
 mod mesh;
 mod parts;
 mod pass;
@@ -42,6 +44,7 @@ use ash::vk;
 use glam::Vec3;
 
 use self::foam_pattern::FoamPattern;
+use self::interaction::InteractionTexture;
 use self::mesh::MeshBuffers;
 use self::parts::{make_parts, validate, Parts};
 use self::pass::{PassConstants, PassRecorder, ResolveAfter};
@@ -57,7 +60,8 @@ use super::pipeline::{Msaa, Pipelines, StereoMode};
 use super::sky::SunSky;
 use crate::base::EyeView;
 use crate::lod::OceanLod;
-use crate::sim::{OceanConfig, Surfaces};
+use crate::sim::interaction::InteractionLayer;
+use crate::sim::{GridSize, OceanConfig, Surfaces};
 pub use sky_map::SkyLight;
 pub use solids::{Shape, Solid, SolidInstance, SolidKind, SolidVertex, MAX_SOLIDS};
 
@@ -91,6 +95,9 @@ pub struct RendererSettings {
     /// [`TONEMAP_RAMP_TOP`] through the tone curve (tests: the curve and the sRGB store read
     /// back as [`crate::render::tonemap`] says).
     pub tonemap_ramp: bool,
+    /// The interaction layer's side in cells ([`crate::sim::interaction`]), `None`: no layer
+    /// (a frame's layer of another size is not drawn).
+    pub interaction: Option<GridSize>,
     /// Count the shading paths the pixels take and the pass's invocations
     /// ([`OceanRenderer::path_counts`]; `vr-ocean gpu-budget`): the counting variant of the
     /// fragment shader, which shades the same but writes a tally. Never in a user's run.
@@ -112,6 +119,7 @@ impl Default for RendererSettings {
             fog_distance: 4000.0,
             sky_marker: false,
             tonemap_ramp: false,
+            interaction: None,
             count_paths: false,
         }
     }
@@ -163,6 +171,8 @@ pub struct FrameInput<'a> {
     /// Solid things in the water and the deck (at most [`MAX_SOLIDS`]); drawn in the same
     /// pass, at most three more draws.
     pub solids: &'a [Solid],
+    /// The interaction layer's waves, added to the sea's (`None`: none).
+    pub interaction: Option<&'a InteractionLayer>,
 }
 
 /// What one [`OceanRenderer::render`] call measured.
@@ -185,6 +195,11 @@ pub struct OceanRenderer {
     settings: RendererSettings,
     pipelines: Pipelines,
     textures: CascadeTextures,
+    interaction: InteractionTexture,
+    /// The layer time last uploaded (`None`: none yet, or the zero texels).
+    layer_uploaded: Option<f64>,
+    /// Where the layer's part of each slot's staging buffer starts (bytes).
+    textures_staging: u64,
     mesh: MeshBuffers,
     targets: Targets,
     sky: SkyMap,
@@ -221,6 +236,7 @@ impl OceanRenderer {
         let Parts {
             pipelines: Some(pipelines),
             textures: Some(textures),
+            interaction: Some(interaction),
             mesh: Some(mesh),
             targets: Some(out_targets),
             sky: Some(sky),
@@ -235,6 +251,9 @@ impl OceanRenderer {
             settings,
             pipelines,
             textures,
+            interaction,
+            layer_uploaded: None,
+            textures_staging: CascadeTextures::staging_size(config),
             mesh,
             targets: out_targets,
             sky,
@@ -306,10 +325,29 @@ impl OceanRenderer {
                 .stage(slot.staging.bytes_mut(), input.surfaces);
             slot.uploaded = Some(time);
         }
+        // The interaction layer, when it stepped since the last upload (the zero texels once).
+        let layer = input
+            .interaction
+            .filter(|l| self.interaction.draws(Some(l)));
+        let layer_time = layer.map(|l| l.time());
+        let layer_upload =
+            self.frame <= 1 || (layer.is_some() && self.layer_uploaded != layer_time);
+        let layer_offset = self.textures_staging;
+        if layer_upload {
+            self.interaction.stage(
+                &mut slot.staging.bytes_mut()[layer_offset as usize..],
+                layer,
+            );
+            self.layer_uploaded = layer_time;
+        }
         slot.begin(ctx)?;
         let (d, cmd) = (&ctx.device, slot.cmd);
         if upload {
             self.textures.record_upload(d, cmd, slot.staging.raw);
+        }
+        if layer_upload {
+            self.interaction
+                .record_upload(d, cmd, slot.staging.raw, layer_offset);
         }
         let timed = ctx.timestamp_period.is_some();
         if timed {

@@ -2,6 +2,7 @@
 //! after the other, all or nothing (whatever exists is destroyed when a later step fails).
 
 use super::foam_pattern::FoamPattern;
+use super::interaction::InteractionTexture;
 use super::mesh::MeshBuffers;
 use super::probe::PathProbe;
 use super::sky_map::SkyMap;
@@ -21,6 +22,7 @@ use crate::sim::OceanConfig;
 pub(super) struct Parts {
     pub pipelines: Option<Pipelines>,
     pub textures: Option<CascadeTextures>,
+    pub interaction: Option<InteractionTexture>,
     pub mesh: Option<MeshBuffers>,
     pub targets: Option<Targets>,
     pub sky: Option<SkyMap>,
@@ -50,6 +52,9 @@ impl Parts {
             m.destroy(ctx);
         }
         if let Some(mut t) = self.textures.take() {
+            t.destroy(ctx);
+        }
+        if let Some(mut t) = self.interaction.take() {
             t.destroy(ctx);
         }
         if let Some(mut p) = self.pipelines.take() {
@@ -118,18 +123,29 @@ pub(super) fn make_parts(
         .pipelines
         .insert(Pipelines::new(ctx, pass, settings.count_paths)?);
     let textures = parts.textures.insert(CascadeTextures::new(ctx, config)?);
+    let interaction = parts
+        .interaction
+        .insert(InteractionTexture::new(ctx, settings.interaction)?);
     parts.mesh = Some(MeshBuffers::new(ctx, lod)?);
     parts.targets = Some(Targets::new(ctx, pipelines, targets)?);
     let map = lod.settings().map_width() as usize;
     let sizes = SlotSizes {
-        staging: CascadeTextures::staging_size(config),
+        staging: CascadeTextures::staging_size(config)
+            + InteractionTexture::staging_size(settings.interaction),
         instances: map * map + 1,
     };
     let frames = settings.frames_in_flight;
     let sky = parts.sky.insert(SkyMap::new(ctx, &settings.sun)?);
     let [disp, norm, caps] = textures.descriptors();
     let foam = parts.foam.insert(FoamPattern::new(ctx)?);
-    let images = [disp, norm, caps, sky.descriptor(), foam.descriptor()];
+    let images = [
+        disp,
+        norm,
+        caps,
+        sky.descriptor(),
+        foam.descriptor(),
+        interaction.descriptor(),
+    ];
     let tally = if settings.count_paths {
         Some(
             parts

@@ -85,6 +85,18 @@ impl PassConstants {
         g.patch_size = patch_sizes;
         g.fade_start = fade[0];
         g.fade_end = fade[1];
+        g.interaction = [0.0, 0.0, 0.0, -1.0];
+        let drawn = input
+            .interaction
+            .filter(|l| Some(l.config().cells) == settings.interaction);
+        if let Some(l) = drawn {
+            let [ox, oz] = l.origin_m();
+            let side = l.config().side_m();
+            g.interaction = [ox, oz, 1.0 / side, 0.5 / l.config().cells.n() as f32];
+            // Faded from the mesh as a cascade of the layer's side would be.
+            let [[start, ..], [end, ..]] = cascade_fades(&self.lod, &[side]);
+            g.interaction_fade = [start, end, 0.0, 0.0];
+        }
         g.params = [
             self.cascades as f32,
             self.grid as f32,

@@ -15,7 +15,7 @@ use ash::vk;
 use glam::{Quat, Vec3};
 
 use super::gpu_governor::GovernorCaps;
-use super::{Acquired, FrameLoop, FrameState, XrError, MAX_TWEAKS};
+use super::{Acquired, FrameLoop, FrameState, Tweak, XrError, MAX_TWEAKS};
 use crate::base::{EyeView, Fov};
 use crate::render::memory::{Image, ImageDesc};
 use crate::render::{ContextOptions, GpuContext, RenderError, TargetImages};
@@ -272,13 +272,21 @@ impl FrameLoop for HeadlessXr {
             (t, settled + t, PERIOD)
         };
         let (position, orientation) = self.path.pose(path_time);
+        let mut tweaks = [None; MAX_TWEAKS];
+        if !settling {
+            // The path's throws in this frame's span (at most MAX_TWEAKS a frame).
+            let throws = self.path.throws_in(path_time, path_time + PERIOD);
+            for t in tweaks.iter_mut().take(throws) {
+                *t = Some(Tweak::Throw);
+            }
+        }
         let state = FrameState {
             index: self.frame,
             predicted_display_time: time,
             period,
             views: eye_views(position, orientation),
             should_render: !settling,
-            tweaks: [None; MAX_TWEAKS],
+            tweaks,
             hands: [None; 2],
         };
         self.frame += 1;

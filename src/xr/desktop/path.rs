@@ -7,6 +7,9 @@
 //! - `yaw`: degrees, 0 looks along −z, positive turns left (towards −x);
 //! - `pitch`: degrees in (−90, 90), positive looks up.
 //!
+//! A line `throw t` throws a crate from the head along the view at time `t` s (as the window's
+//! throw key does), so a run with splashes is reproducible.
+//!
 //! `#` starts a comment; blank lines are ignored. Between keys the pose is linear in position,
 //! yaw and pitch; before the first key it holds the first, after the last the last. At least
 //! one key is required.
@@ -15,6 +18,7 @@
 //! # standing at the shore, turning to look along the waves
 //! 0   0 1.7 0    0  -5
 //! 10  0 1.7 -20  90 -10
+//! throw 2.5
 //! ```
 
 use std::path::Path;
@@ -38,6 +42,8 @@ pub struct PathKey {
 #[derive(Clone, Debug, PartialEq)]
 pub struct CameraPath {
     keys: Vec<PathKey>,
+    /// Times of the scripted throws (s), increasing.
+    throws: Vec<f64>,
 }
 
 /// A path file that could not be read, with the line at fault.
@@ -63,6 +69,7 @@ impl CameraPath {
     /// Parses the text of a path file.
     pub fn parse(text: &str) -> Result<Self, PathError> {
         let mut keys: Vec<PathKey> = Vec::new();
+        let mut throws: Vec<f64> = Vec::new();
         for (i, line) in text.lines().enumerate() {
             let line_no = i + 1;
             let line = line.split('#').next().unwrap_or("").trim();
@@ -70,6 +77,19 @@ impl CameraPath {
                 continue;
             }
             let fields: Vec<&str> = line.split_whitespace().collect();
+            if fields[0] == "throw" {
+                let t = match fields[..] {
+                    [_, t] => t.parse::<f64>().ok().filter(|t| t.is_finite() && *t >= 0.0),
+                    _ => None,
+                }
+                .ok_or_else(|| {
+                    PathError(format!(
+                        "line {line_no}: expected `throw t` with a time t >= 0 (s)"
+                    ))
+                })?;
+                throws.push(t);
+                continue;
+            }
             if fields.len() != 6 {
                 return Err(PathError(format!(
                     "line {line_no}: expected 6 numbers `t x y z yaw pitch`, found {}",
@@ -124,7 +144,8 @@ impl CameraPath {
         if keys.is_empty() {
             return Err(PathError("the path has no keys".into()));
         }
-        Ok(Self { keys })
+        throws.sort_by(f64::total_cmp);
+        Ok(Self { keys, throws })
     }
 
     /// A path standing still at `position`, looking along `yaw`/`pitch`.
@@ -136,7 +157,13 @@ impl CameraPath {
                 yaw,
                 pitch,
             }],
+            throws: Vec::new(),
         }
+    }
+
+    /// How many scripted throws fall in [`from`, `to`) (s).
+    pub fn throws_in(&self, from: f64, to: f64) -> usize {
+        self.throws.iter().filter(|&&t| t >= from && t < to).count()
     }
 
     /// The keys.

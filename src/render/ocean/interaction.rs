@@ -1,0 +1,168 @@
+//! The interaction layer's texture (issue 30): RGBA16F (h, ∂h/∂x, ∂h/∂z, foam) of
+//! [`crate::sim::interaction`], N × N, clamped (the layer fades to zero at its edges, so beyond
+//! them it adds nothing). Re-uploaded on every frame whose layer stepped, through its own part
+//! of each slot's staging buffer. Without a layer it is one zero texel and the shaders skip it.
+
+use ash::vk;
+
+use crate::render::barrier::{self, Access, ImageBarrier};
+use crate::render::context::GpuContext;
+use crate::render::error::RenderError;
+use crate::render::memory::{Image, ImageDesc};
+use crate::sim::interaction::InteractionLayer;
+use crate::sim::GridSize;
+
+/// The layer's image and sampler.
+pub(super) struct InteractionTexture {
+    image: Image,
+    sampler: vk::Sampler,
+    /// Cells a side (1 without a layer).
+    side: u32,
+}
+
+impl InteractionTexture {
+    /// The image for a layer of `cells` (a zero texel for `None`). Nothing is left behind when
+    /// a step fails.
+    pub fn new(ctx: &GpuContext, cells: Option<GridSize>) -> Result<Self, RenderError> {
+        let side = cells.map_or(1, |c| c.n() as u32);
+        let mut this = Self {
+            image: Image::null(),
+            sampler: vk::Sampler::null(),
+            side,
+        };
+        if let Err(e) = this.create(ctx) {
+            this.destroy(ctx);
+            return Err(e);
+        }
+        Ok(this)
+    }
+
+    fn create(&mut self, ctx: &GpuContext) -> Result<(), RenderError> {
+        self.image = Image::new(
+            ctx,
+            ImageDesc {
+                format: vk::Format::R16G16B16A16_SFLOAT,
+                extent: vk::Extent2D {
+                    width: self.side,
+                    height: self.side,
+                },
+                layers: 1,
+                mips: 1,
+                samples: vk::SampleCountFlags::TYPE_1,
+                usage: vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
+                aspect: vk::ImageAspectFlags::COLOR,
+                transient: false,
+            },
+        )?;
+        let info = vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::LINEAR)
+            .min_filter(vk::Filter::LINEAR)
+            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .min_lod(0.0)
+            .max_lod(0.0);
+        // SAFETY: a valid create info on a live device.
+        self.sampler = ctx.create("vkCreateSampler", || unsafe {
+            ctx.device.create_sampler(&info, None)
+        })?;
+        Ok(())
+    }
+
+    /// Bytes of one upload.
+    pub fn staging_size(cells: Option<GridSize>) -> u64 {
+        let side = cells.map_or(1, |c| c.n() as u64);
+        side * side * 8
+    }
+
+    /// The descriptor (binding 7).
+    pub fn descriptor(&self) -> vk::DescriptorImageInfo {
+        vk::DescriptorImageInfo {
+            sampler: self.sampler,
+            image_view: self.image.view,
+            image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        }
+    }
+
+    /// Copies the layer's texels into `staging` (this texture's part of a slot's buffer);
+    /// `None` (no layer, or one of another size: a renderer made for another preset) stages
+    /// zeros. No allocation.
+    pub fn stage(&self, staging: &mut [u8], layer: Option<&InteractionLayer>) {
+        let texels = layer
+            .map(|l| l.texels())
+            .filter(|t| t.len() == (self.side * self.side) as usize);
+        let part = &mut staging[..(self.side * self.side * 8) as usize];
+        match texels {
+            Some(t) => part.copy_from_slice(bytemuck::cast_slice(t)),
+            None => part.fill(0),
+        }
+    }
+
+    /// Whether `layer` is drawn by this texture (its size matches).
+    pub fn draws(&self, layer: Option<&InteractionLayer>) -> bool {
+        layer.is_some_and(|l| l.config().cells.n() as u32 == self.side && self.side > 1)
+    }
+
+    /// Records the copy of the staged texels at `offset` of `staging`: shader reads of the
+    /// previous frame → transfer write (contents discarded) → shader reads.
+    pub fn record_upload(
+        &self,
+        d: &ash::Device,
+        cmd: vk::CommandBuffer,
+        staging: vk::Buffer,
+        offset: u64,
+    ) {
+        let to_copy = [ImageBarrier::colour(
+            self.image.raw,
+            1,
+            Access::ShaderSampled,
+            Access::TransferWrite,
+        )
+        .discard()];
+        barrier::record(d, cmd, to_copy, None);
+        let region = vk::BufferImageCopy {
+            buffer_offset: offset,
+            buffer_row_length: 0,
+            buffer_image_height: 0,
+            image_subresource: vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            },
+            image_offset: vk::Offset3D::default(),
+            image_extent: vk::Extent3D {
+                width: self.side,
+                height: self.side,
+                depth: 1,
+            },
+        };
+        // SAFETY: `cmd` is recording; the image is in TRANSFER_DST_OPTIMAL after the barrier,
+        // and the region lies inside the staging buffer (`staging_size` at `offset`).
+        unsafe {
+            d.cmd_copy_buffer_to_image(
+                cmd,
+                staging,
+                self.image.raw,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &[region],
+            );
+        }
+        let to_read = to_copy.map(|b| ImageBarrier {
+            from: Access::TransferWrite,
+            to: Access::ShaderSampled,
+            contents: barrier::Contents::Keep,
+            ..b
+        });
+        barrier::record(d, cmd, to_read, None);
+    }
+
+    /// Frees what was made. The GPU must be done with it.
+    pub fn destroy(&mut self, ctx: &GpuContext) {
+        // SAFETY: the GPU no longer uses the sampler; a null handle is a no-op.
+        unsafe { ctx.device.destroy_sampler(self.sampler, None) };
+        self.sampler = vk::Sampler::null();
+        self.image.destroy(ctx);
+    }
+}
