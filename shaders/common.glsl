@@ -55,15 +55,15 @@ layout(set = 0, binding = 0, std140) uniform Globals {
 
 // The interaction layer (`render::ocean::interaction`): h (m), ∂h/∂x, ∂h/∂z, foam; clamped,
 // zero at its edges.
-layout(set = 0, binding = 7) uniform mediump sampler2D u_interaction;
+layout(set = 0, binding = 7) uniform mediump sampler2DArray u_interaction;
 
 // The layer at world `xz`, zero without one.
 mediump vec4 interaction_at(vec2 xz) {
     if (g.interaction.w < 0.0) {
         return vec4(0.0);
     }
-    return textureLod(u_interaction, (xz - g.interaction.xy) * g.interaction.z + g.interaction.w,
-                      0.0);
+    vec2 uv = (xz - g.interaction.xy) * g.interaction.z + g.interaction.w;
+    return textureLod(u_interaction, vec3(uv, 0.0), 0.0);
 }
 
 const float PI = 3.14159265;

@@ -70,6 +70,12 @@ impl InteractionTexture {
         Ok(())
     }
 
+    /// Where this texture's part of a slot's staging buffer starts after `before` bytes:
+    /// aligned to the texel (a copy's buffer offset must be a multiple of it).
+    pub fn staging_offset(before: u64) -> u64 {
+        before.next_multiple_of(8)
+    }
+
     /// Bytes of one upload.
     pub fn staging_size(cells: Option<GridSize>) -> u64 {
         let side = cells.map_or(1, |c| c.n() as u64);

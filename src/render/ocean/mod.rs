@@ -253,7 +253,9 @@ impl OceanRenderer {
             textures,
             interaction,
             layer_uploaded: None,
-            textures_staging: CascadeTextures::staging_size(config),
+            textures_staging: InteractionTexture::staging_offset(CascadeTextures::staging_size(
+                config,
+            )),
             mesh,
             targets: out_targets,
             sky,
@@ -514,6 +516,7 @@ impl OceanRenderer {
         self.sky.destroy(ctx);
         self.mesh.destroy(ctx);
         self.textures.destroy(ctx);
+        self.interaction.destroy(ctx);
         self.pipelines.destroy(ctx);
     }
 }

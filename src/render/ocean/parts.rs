@@ -130,7 +130,7 @@ pub(super) fn make_parts(
     parts.targets = Some(Targets::new(ctx, pipelines, targets)?);
     let map = lod.settings().map_width() as usize;
     let sizes = SlotSizes {
-        staging: CascadeTextures::staging_size(config)
+        staging: InteractionTexture::staging_offset(CascadeTextures::staging_size(config))
             + InteractionTexture::staging_size(settings.interaction),
         instances: map * map + 1,
     };
