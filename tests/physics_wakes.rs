@@ -124,3 +124,72 @@ fn a_body_at_rest_keeps_its_draft() {
     println!("buoy at rest: y {a:.4} m without the layer, {b:.4} m with it");
     assert!((a - b).abs() < 0.02, "{a} vs {b}");
 }
+
+/// A launched boat motors away at about its speed and leaves a wake in the layer.
+#[test]
+fn a_launched_boat_motors_and_leaves_a_wake() {
+    let cfg = OceanConfig::default_cascades(64).unwrap();
+    let surfaces = Surfaces::new(&cfg);
+    let mut world = Floaters::new(PhysicsConfig {
+        deck: None,
+        ..PhysicsConfig::default()
+    })
+    .unwrap();
+    let c = InteractionConfig::default_with_dt(PHYSICS_DT).unwrap();
+    world.set_interaction(Some(c), Vec2::ZERO);
+    let id = world
+        .launch_boat(Vec3::new(0.0, 3.0, 0.0), Vec3::new(0.0, -0.3, -1.0), 2.0)
+        .unwrap();
+    for _ in 0..(10.0 / PHYSICS_DT) as usize {
+        let p = world.pose(id).unwrap().position;
+        world.follow(Vec2::new(p.x, p.z));
+        world.step(&surfaces);
+    }
+    let p = world.pose(id).unwrap().position;
+    let (v, _) = world.velocity(id).unwrap();
+    let energy = world.interaction().unwrap().stats().energy_j;
+    println!(
+        "boat after 10 s at {p}, speed {:.2} m/s, layer energy {energy:.3e} J",
+        v.length()
+    );
+    assert!(p.z < -6.0 - 15.0 && p.x.abs() < 2.0, "{p}");
+    assert!((v.length() - 2.0).abs() < 0.35, "{v}");
+    // Waves of a few centimetres over the wake's ~100 m²: hundreds of joules.
+    assert!(energy > 100.0, "no wake: {energy} J");
+}
+
+/// A hand swept through the water makes ripples (and says it is in the water); above the
+/// water, or with the layer off, it does nothing.
+#[test]
+fn a_hand_in_the_water_ripples_it() {
+    use glam::Quat;
+    use vr_ocean::physics::HandInput;
+    let cfg = OceanConfig::default_cascades(64).unwrap();
+    let surfaces = Surfaces::new(&cfg);
+    let mut world = Floaters::new(PhysicsConfig {
+        deck: None,
+        ..PhysicsConfig::default()
+    })
+    .unwrap();
+    let hand = |x: f32, y: f32| HandInput {
+        grip: 0.0,
+        pose: Pose {
+            position: Vec3::new(x, y, 0.0),
+            rotation: Quat::IDENTITY,
+        },
+        linvel: Vec3::new(1.0, 0.0, 0.0),
+        angvel: Vec3::ZERO,
+    };
+    assert!(!world.dip(&hand(0.0, -0.1), &surfaces), "no layer, no dip");
+    let c = InteractionConfig::default_with_dt(PHYSICS_DT).unwrap();
+    world.set_interaction(Some(c), Vec2::ZERO);
+    assert!(!world.dip(&hand(0.0, 0.2), &surfaces), "above the water");
+    for i in 0..90 {
+        let x = -0.5 + i as f32 * PHYSICS_DT;
+        assert!(world.dip(&hand(x, -0.1), &surfaces));
+        world.step(&surfaces);
+    }
+    let energy = world.interaction().unwrap().stats().energy_j;
+    println!("a hand swept 1 m through the water at 1 m/s: {energy:.3} J of ripples");
+    assert!(energy > 0.01, "{energy}");
+}

@@ -110,6 +110,11 @@ impl Afloat {
         self.world.as_ref()
     }
 
+    /// The physics world, mutably, once the first frame made it.
+    pub fn world_mut(&mut self) -> Option<&mut Floaters> {
+        self.world.as_mut()
+    }
+
     /// The world for the first frame's head at `viewer`, with its bodies around it.
     fn make_world(&self, viewer: Vec3, surfaces: &Surfaces) -> Result<Floaters, PhysicsError> {
         let mut config = PhysicsConfig::default();

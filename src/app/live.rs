@@ -29,7 +29,7 @@ pub fn apply_wave_tweak(sim: &mut Simulation, tweak: Tweak) {
             waves.choppiness = ((waves.choppiness + d) * 100.0).round() / 100.0;
             "choppiness"
         }
-        Tweak::Preset(_) | Tweak::Throw | Tweak::Sun { .. } => return,
+        Tweak::Preset(_) | Tweak::Throw | Tweak::LaunchBoat(_) | Tweak::Sun { .. } => return,
     };
     match sim.set_waves(waves) {
         Ok(()) => log::info!(

@@ -304,6 +304,7 @@ impl<'a> Frames<'a> {
             match tweak {
                 Tweak::Preset(p) => self.user_preset(p)?,
                 Tweak::Throw => self.throw(&frame),
+                Tweak::LaunchBoat(speed) => self.launch_boat(&frame, speed),
                 Tweak::Sun { elevation, azimuth } => self.move_sun(elevation, azimuth)?,
                 t => live::apply_wave_tweak(&mut self.sim, t),
             }
@@ -483,6 +484,20 @@ impl<'a> Frames<'a> {
                 }
             }
             None => log::info!("no floating bodies in this run: nothing to throw"),
+        }
+    }
+
+    /// Launches a boat ahead along the view (a camera path's `boat`); one that cannot be
+    /// placed is only logged.
+    fn launch_boat(&mut self, frame: &FrameState, speed: f32) {
+        let launched = self.afloat.as_mut().and_then(|a| a.world_mut()).map(|w| {
+            let head = (frame.views[0].position + frame.views[1].position) * 0.5;
+            w.launch_boat(head, frame.views[0].orientation * glam::Vec3::NEG_Z, speed)
+        });
+        match launched {
+            Some(Err(e)) => log::warn!("boat: {e}"),
+            None => log::info!("no floating bodies in this run yet: no boat launched"),
+            Some(Ok(_)) => {}
         }
     }
 

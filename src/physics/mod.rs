@@ -50,6 +50,7 @@ mod convert;
 pub mod error;
 pub mod hands;
 pub mod interact;
+pub mod motor;
 pub mod spawn;
 pub mod wakes;
 pub mod water;

@@ -21,6 +21,9 @@ use super::MAX_BODIES;
 use crate::sim::interaction::{InteractionConfig, InteractionLayer, WaveSource};
 use crate::sim::Surfaces;
 
+/// Most sources one body puts in (along its length).
+pub const MAX_SOURCES_PER_BODY: usize = 3;
+
 /// Most hand sources a step takes (two controllers, room to spare).
 pub const MAX_HAND_SOURCES: usize = 4;
 
@@ -41,8 +44,8 @@ pub(crate) struct Wakes {
     pub(crate) layer: InteractionLayer,
     sources: Vec<WaveSource>,
     hands: Vec<WaveSource>,
-    /// Per slot: the source it put in at the last step (its hollow), if floating.
-    own: Vec<Option<WaveSource>>,
+    /// Per slot: the sources it put in at the last step (its hollow), if floating.
+    own: Vec<Vec<WaveSource>>,
     centre: Vec2,
 }
 
@@ -50,57 +53,73 @@ impl Wakes {
     pub(crate) fn new(config: InteractionConfig, centre: Vec2) -> Self {
         Self {
             layer: InteractionLayer::new(config, centre.x, centre.y),
-            sources: Vec::with_capacity(MAX_BODIES + MAX_HAND_SOURCES),
+            sources: Vec::with_capacity(MAX_BODIES * MAX_SOURCES_PER_BODY + MAX_HAND_SOURCES),
             hands: Vec::with_capacity(MAX_HAND_SOURCES),
-            own: vec![None; MAX_BODIES],
+            own: (0..MAX_BODIES)
+                .map(|_| Vec::with_capacity(MAX_SOURCES_PER_BODY))
+                .collect(),
             centre,
         }
     }
 
     /// The layer's height at `p` for the body in `slot`, less its own hollow: at most the
-    /// hollow's depth there ([`WaveSource::head_at`] of the source it put in last), and no
+    /// hollow's depth there ([`WaveSource::head_at`] of the sources it put in last), and no
     /// more than the layer is actually lowered there (while the hollow forms, after an
     /// entry, the body must not be lifted by water that is not there).
     pub(crate) fn height_for(&self, slot: usize, p: [f32; 2]) -> f32 {
         let h = self.layer.height_at(p[0], p[1]);
-        match &self.own[slot] {
-            Some(s) => {
-                let hollow = s.head_at(p[0], p[1], self.layer.config().cell_m);
-                h + hollow.min((-h).max(0.0))
-            }
-            None => h,
-        }
+        let cell = self.layer.config().cell_m;
+        let hollow: f32 = self.own[slot]
+            .iter()
+            .map(|s| s.head_at(p[0], p[1], cell))
+            .sum();
+        h + hollow.min((-h).max(0.0))
     }
 
-    /// One layer step after rapier's: a source per floating body, then the hands'.
+    /// One layer step after rapier's: sources for every floating body, then the hands'.
     pub(crate) fn step(&mut self, slots: &[Slot], velocities: impl Fn(&Slot) -> Vec3) {
         self.sources.clear();
         for (i, s) in slots.iter().enumerate() {
-            let before = self.own[i].map_or(0.0, |o| o.volume);
-            self.own[i] = None;
+            let before: f32 = self.own[i].iter().map(|o| o.volume).sum();
+            self.own[i].clear();
             if s.state != BodyState::Floating || s.submerged <= 0.0 {
                 continue;
             }
+            // A long body presses the water along its length: one source per beam's length
+            // of it (up to three; a boat's bow and stern make their own waves), each a disc
+            // of its beam. One blob of its length would be too smooth to make any wave
+            // shorter than itself.
             let size = s.spec.size();
-            let radius = 0.5 * size.x.max(size.z);
+            let (long, short, axis) = if size.z >= size.x {
+                (size.z, size.x, Vec3::Z)
+            } else {
+                (size.x, size.z, Vec3::X)
+            };
+            let count = ((long / short).round() as usize).clamp(1, MAX_SOURCES_PER_BODY);
+            let axis = s.curr.rotation * axis;
             let full = s.spec.volume();
             // The entry: water pushed down at the body's sinking speed over its radius, in
             // proportion to the share of its volume that went under this step.
             let sinking = (-velocities(s).y).max(0.0);
             let entered = ((s.submerged - before) / full).clamp(0.0, 1.0);
-            let src = WaveSource {
-                x: s.curr.position.x,
-                z: s.curr.position.z,
-                radius,
-                // The displaced volume's centroid: half its mean depth under the hull's area.
-                depth: 0.5 * s.submerged / s.hull.area().max(1e-3),
-                volume: s.submerged,
-                impulse: 0.5 * sinking * radius * entered,
-                foam: (sinking / FOAM_ENTRY_SPEED * entered * 4.0).min(1.0),
-            };
-            if src.is_valid() {
-                self.own[i] = Some(src);
-                self.sources.push(src);
+            let radius = 0.5 * short;
+            for k in 0..count {
+                let along = ((k as f32 + 0.5) / count as f32 - 0.5) * long;
+                let centre = s.curr.position + axis * along;
+                let src = WaveSource {
+                    x: centre.x,
+                    z: centre.z,
+                    radius,
+                    // The displaced volume's centroid: half its mean depth under the hull.
+                    depth: 0.5 * s.submerged / s.hull.area().max(1e-3),
+                    volume: s.submerged / count as f32,
+                    impulse: 0.5 * sinking * radius * entered,
+                    foam: (sinking / FOAM_ENTRY_SPEED * entered * 4.0).min(1.0),
+                };
+                if src.is_valid() {
+                    self.own[i].push(src);
+                    self.sources.push(src);
+                }
             }
         }
         self.sources.extend_from_slice(&self.hands);

@@ -95,6 +95,8 @@ pub(crate) struct Slot {
     first_sample: usize,
     /// When it was last thrown ([`Floaters::throw_from`] reuses the oldest).
     pub(crate) thrown: u64,
+    /// The speed its motor holds along its bow (m/s), for a launched boat.
+    pub(crate) motor: Option<f32>,
 }
 
 /// Floating bodies, the deck and the fixed-step clock. See the [module docs](crate::physics).
@@ -256,6 +258,7 @@ impl Floaters {
             submerged: 0.0,
             first_sample: 0,
             thrown: 0,
+            motor: None,
         };
         if slot < self.slots.len() {
             let old = std::mem::replace(&mut self.slots[slot], fresh);
@@ -327,6 +330,8 @@ impl Floaters {
             dt: PHYSICS_DT,
         };
         let (mut heights, mut rates) = ([0.0f32; MAX_COLUMNS], [0.0f32; MAX_COLUMNS]);
+        // Launched boats in the water: their velocity, for their motors below.
+        let mut motors: [Option<Vec3>; MAX_BODIES] = [None; MAX_BODIES];
         for (i, s) in self.slots.iter_mut().enumerate() {
             let Some(rb) = self.world.bodies.get_mut(s.handle) else {
                 continue;
@@ -373,7 +378,19 @@ impl Floaters {
                         (f.submerged / (s.hull.area() * buoyancy::WET_LENGTH)).clamp(0.0, 1.0);
                     let dry_weight = s.added * water.gravity * (1.0 - wet);
                     rb.add_force(to_rapier(f.force - Vec3::Y * dry_weight), true);
+                    if s.motor.is_some() && wet > 0.0 {
+                        motors[i] = Some(from_rapier(rb.linvel()));
+                    }
                     rb.add_torque(to_rapier(f.torque), true);
+                }
+            }
+        }
+
+        for (i, v) in motors.iter().enumerate() {
+            if let Some(v) = v {
+                let force = self.motor_force(i, *v);
+                if let Some(rb) = self.world.bodies.get_mut(self.slots[i].handle) {
+                    rb.add_force(to_rapier(force), true);
                 }
             }
         }

@@ -33,6 +33,8 @@ pub enum Tweak {
     Preset(QualityPreset),
     /// Throw a crate from the head along the view (the window's throw key).
     Throw,
+    /// Launch a boat ahead of the head along the view, its motor holding this speed (m/s).
+    LaunchBoat(f32),
     /// Move the sun: elevation and azimuth by these many degrees (time-of-day keys).
     Sun {
         /// Degrees up (negative: down).

@@ -1,8 +1,6 @@
 //! The layer's state and its step (see the [module docs](super)): h and φ as one complex
 //! field, the absorbing band, foam, and what is drawn and queried.
 
-use rayon::prelude::*;
-
 use super::modes::{ModeTable, MAX_N};
 use super::source::{footprint, WaveSource, FOOTPRINT_AREA};
 use super::{InteractionConfig, FOAM_LIFETIME_S, FOAM_SLOPE, SURFACE_TENSION};
@@ -16,7 +14,7 @@ use crate::sim::surface::f16_row::interleave_f16;
 const SPONGE_RATE: f32 = 6.0;
 
 /// Foam added per step and unit of slope above [`FOAM_SLOPE`].
-const FOAM_PER_SLOPE: f32 = 0.5;
+const FOAM_PER_SLOPE: f32 = 0.25;
 
 /// Steepest slope a wave keeps (Stokes's limit, H/λ = 1/7, is a·k = π/7 ≈ 0.45): where the
 /// layer is steeper outside the sources' footprints, the wave breaks: h of the cell is scaled
@@ -233,9 +231,9 @@ impl InteractionLayer {
         let (level, damp, window) = (&self.level, &self.damp, &self.window);
         self.field
             .re
-            .par_chunks_mut(n)
-            .zip(self.field.im.par_chunks_mut(n))
-            .zip(self.height.par_chunks_mut(n))
+            .chunks_mut(n)
+            .zip(self.field.im.chunks_mut(n))
+            .zip(self.height.chunks_mut(n))
             .enumerate()
             .for_each(|(row, ((re, im), out))| {
                 let at = level[row] * n..(level[row] + 1) * n;
@@ -250,7 +248,8 @@ impl InteractionLayer {
         let rho = 1025.0;
         let area = (cell as f64).powi(2);
         self.stats = InteractionStats {
-            energy_j: 0.5 * rho * area * energy / ((n * n) as f64 * (n * n) as f64),
+            // Parseval: Σ_x h² = Σ_k |ĥ_k|² / N² for the unnormalized transform.
+            energy_j: 0.5 * rho * area * energy / (n * n) as f64,
             sources: applied,
         };
         self.time += dt as f64;
@@ -265,10 +264,10 @@ impl InteractionLayer {
         let inv = 0.5 / self.config.cell_m;
         let h = &self.height;
         self.texels
-            .par_chunks_mut(n)
-            .zip(self.foam.par_chunks_mut(n))
-            .zip(self.forced.par_chunks_mut(n))
-            .zip(self.field.re.par_chunks_mut(n))
+            .chunks_mut(n)
+            .zip(self.foam.chunks_mut(n))
+            .zip(self.forced.chunks_mut(n))
+            .zip(self.field.re.chunks_mut(n))
             .enumerate()
             .for_each(|(row, (((out, foam), forced), re))| {
                 let up = &h[row.saturating_sub(1) * n..][..n];
@@ -288,9 +287,10 @@ impl InteractionLayer {
                 if let Some(decay) = foam_decay {
                     for c in 0..n {
                         let s = (sx[c] * sx[c] + sz[c] * sz[c]).sqrt();
-                        let whiten = FOAM_PER_SLOPE * (s - FOAM_SLOPE).max(0.0);
-                        // 1 where no source holds the cell; the share of h kept there.
+                        // 1 where no source holds the cell (a body's own hollow is steep, not
+                        // breaking); the share of h kept there.
                         let free = 1.0 - forced[c] as f32;
+                        let whiten = free * FOAM_PER_SLOPE * (s - FOAM_SLOPE).max(0.0);
                         let keep = 1.0 - free * (1.0 - BREAK_SLOPE / s.max(BREAK_SLOPE));
                         re[c] *= keep;
                         foam[c] =

@@ -8,8 +8,6 @@
 //! back to N²·(h + iφ). The mean (k = 0) and the Nyquist row and column are zeroed: the mean
 //! does not move, and a checkerboard is no wave.
 
-use rayon::prelude::*;
-
 use crate::sim::grid::{AlignedBuf, GridSize, SplitField};
 
 /// Per mode k (rows 0..=N/2; the partner −k has the same |k|): cos ωdt, (|k|/ω)·sin ωdt,
@@ -98,11 +96,11 @@ impl ModeTable {
         let (im_top, im_bottom) = im.split_at_mut(half * n);
         let this = &*self;
         re_top[n..]
-            .par_chunks_mut(n)
-            .zip(im_top[n..].par_chunks_mut(n))
-            .zip(re_bottom[n..].par_chunks_mut(n).rev())
-            .zip(im_bottom[n..].par_chunks_mut(n).rev())
-            .zip(row_energy[1..half].par_iter_mut())
+            .chunks_mut(n)
+            .zip(im_top[n..].chunks_mut(n))
+            .zip(re_bottom[n..].chunks_mut(n).rev())
+            .zip(im_bottom[n..].chunks_mut(n).rev())
+            .zip(row_energy[1..half].iter_mut())
             .enumerate()
             .for_each(|(i, ((((tr, ti), br), bi), energy))| {
                 // The partner row reversed ((N − c) mod N at c) into a local copy, so that the

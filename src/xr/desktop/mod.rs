@@ -276,8 +276,11 @@ impl FrameLoop for HeadlessXr {
         if !settling {
             // The path's throws in this frame's span (at most MAX_TWEAKS a frame).
             let throws = self.path.throws_in(path_time, path_time + PERIOD);
-            for t in tweaks.iter_mut().take(throws) {
-                *t = Some(Tweak::Throw);
+            let boats = self.path.boats_in(path_time, path_time + PERIOD);
+            let scripted =
+                std::iter::repeat_n(Tweak::Throw, throws).chain(boats.map(Tweak::LaunchBoat));
+            for (slot, t) in tweaks.iter_mut().zip(scripted) {
+                *slot = Some(t);
             }
         }
         let state = FrameState {

@@ -8,7 +8,8 @@
 //! - `pitch`: degrees in (−90, 90), positive looks up.
 //!
 //! A line `throw t` throws a crate from the head along the view at time `t` s (as the window's
-//! throw key does), so a run with splashes is reproducible.
+//! throw key does), and `boat t speed` launches a boat ahead along the view whose motor holds
+//! `speed` m/s, so runs with splashes and wakes are reproducible.
 //!
 //! `#` starts a comment; blank lines are ignored. Between keys the pose is linear in position,
 //! yaw and pitch; before the first key it holds the first, after the last the last. At least
@@ -44,6 +45,8 @@ pub struct CameraPath {
     keys: Vec<PathKey>,
     /// Times of the scripted throws (s), increasing.
     throws: Vec<f64>,
+    /// Times (s) and speeds (m/s) of the scripted boat launches, by time.
+    boats: Vec<(f64, f32)>,
 }
 
 /// A path file that could not be read, with the line at fault.
@@ -70,6 +73,7 @@ impl CameraPath {
     pub fn parse(text: &str) -> Result<Self, PathError> {
         let mut keys: Vec<PathKey> = Vec::new();
         let mut throws: Vec<f64> = Vec::new();
+        let mut boats: Vec<(f64, f32)> = Vec::new();
         for (i, line) in text.lines().enumerate() {
             let line_no = i + 1;
             let line = line.split('#').next().unwrap_or("").trim();
@@ -88,6 +92,24 @@ impl CameraPath {
                     ))
                 })?;
                 throws.push(t);
+                continue;
+            }
+            if fields[0] == "boat" {
+                let launch = match fields[..] {
+                    [_, t, v] => t
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|t| t.is_finite() && *t >= 0.0)
+                        .zip(v.parse::<f32>().ok().filter(|v| (0.0..=10.0).contains(v))),
+                    _ => None,
+                }
+                .ok_or_else(|| {
+                    PathError(format!(
+                        "line {line_no}: expected `boat t speed` with a time t >= 0 (s) and a \
+                         speed from 0 to 10 (m/s)"
+                    ))
+                })?;
+                boats.push(launch);
                 continue;
             }
             if fields.len() != 6 {
@@ -145,7 +167,12 @@ impl CameraPath {
             return Err(PathError("the path has no keys".into()));
         }
         throws.sort_by(f64::total_cmp);
-        Ok(Self { keys, throws })
+        boats.sort_by(|a, b| a.0.total_cmp(&b.0));
+        Ok(Self {
+            keys,
+            throws,
+            boats,
+        })
     }
 
     /// A path standing still at `position`, looking along `yaw`/`pitch`.
@@ -158,7 +185,16 @@ impl CameraPath {
                 pitch,
             }],
             throws: Vec::new(),
+            boats: Vec::new(),
         }
+    }
+
+    /// The speeds (m/s) of the scripted boats launched in [`from`, `to`) (s).
+    pub fn boats_in(&self, from: f64, to: f64) -> impl Iterator<Item = f32> + '_ {
+        self.boats
+            .iter()
+            .filter(move |(t, _)| *t >= from && *t < to)
+            .map(|&(_, v)| v)
     }
 
     /// How many scripted throws fall in [`from`, `to`) (s).
@@ -237,10 +273,24 @@ mod tests {
             ("-1 0 1 0 0 0", "negative"),
             ("0 0 1 0 0 95", "pitch 95"),
             ("0 1e9 1 0 0 0", "beyond"),
+            ("0 0 1 0 0 0\nthrow", "line 2: expected `throw t`"),
+            ("0 0 1 0 0 0\nthrow -1", "line 2: expected `throw t`"),
+            ("0 0 1 0 0 0\nboat 1", "line 2: expected `boat t speed`"),
+            ("0 0 1 0 0 0\nboat 1 40", "speed from 0 to 10"),
         ];
         for (text, msg) in bad {
             let e = CameraPath::parse(text).unwrap_err();
             assert!(e.0.contains(msg), "{text:?}: {e}");
         }
+    }
+
+    /// Scripted throws and boats fall in the frame spans that hold their times.
+    #[test]
+    fn scripts_throws_and_boats() {
+        let p = CameraPath::parse("0 0 1 0 0 0\nthrow 2\nboat 0.5 1.5\nthrow 1\n").unwrap();
+        assert_eq!(p.throws_in(0.0, 1.0), 0);
+        assert_eq!(p.throws_in(1.0, 2.5), 2);
+        assert_eq!(p.boats_in(0.4, 0.6).collect::<Vec<_>>(), vec![1.5]);
+        assert_eq!(p.boats_in(0.6, 9.0).count(), 0);
     }
 }
