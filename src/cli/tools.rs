@@ -270,7 +270,7 @@ pub fn export_cmd(a: ExportArgs) -> CmdResult {
         let mut run = ScenarioRun::new(config, scenario);
         for t in times {
             pool.install(|| run.advance_to(t));
-            let at = run.scenario().source_at(run.layer().time());
+            let at = run.scenario().centre_at(run.layer().time());
             written +=
                 export::write_interaction(run.layer(), at, &a.out, &format!("t{t:.3}"))?.len();
         }

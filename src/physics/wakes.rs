@@ -1,7 +1,8 @@
 //! The bodies and the interaction layer talk in the same step (issue 30): every floating body
 //! presses the layer with its displaced volume and splashes it when it plunges in, and every
-//! body's heights include the layer's waves, so a buoy rocks in a thrown crate's rings and in
-//! a drifting boat's wake. Hands (OpenXR controllers in the water) add their own sources.
+//! body's heights include the layer's waves (their mean over its hull: `world.rs`), so a buoy
+//! heaves in a thrown crate's rings and in a boat's wake. Hands (OpenXR controllers in the
+//! water) add their own sources.
 //!
 //! A body's own hollow (the layer's steady answer to its own weight) is taken out of the
 //! heights it reads ([`Wakes::height_for`]): reading it, it would sink into it, deepen it and

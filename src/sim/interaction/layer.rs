@@ -263,6 +263,7 @@ impl InteractionLayer {
         let n = self.config.cells.n();
         let inv = 0.5 / self.config.cell_m;
         let h = &self.height;
+        let (level, window) = (&self.level, &self.window);
         self.texels
             .chunks_mut(n)
             .zip(self.foam.chunks_mut(n))
@@ -298,7 +299,14 @@ impl InteractionLayer {
                         forced[c] = 0;
                     }
                 }
-                interleave_f16([mid, &sx[..n], &sz[..n], foam], out);
+                // Foam fades across the band as the height does: the texture is clamped, so
+                // foam left in its outermost texels would streak out over the sea.
+                let mut drawn_foam = [0.0f32; MAX_N];
+                let w = &window[level[row] * n..(level[row] + 1) * n];
+                for ((d, f), w) in drawn_foam[..n].iter_mut().zip(&foam[..]).zip(w) {
+                    *d = f * w;
+                }
+                interleave_f16([mid, &sx[..n], &sz[..n], &drawn_foam[..n]], out);
             });
     }
 

@@ -55,14 +55,10 @@ impl Scenario {
         self.tow.map(|v| [(v as f64 * t) as f32, 0.0])
     }
 
-    /// The point the layer is centred on at time `t`: the towed float, else the drop.
+    /// The point the layer is centred on at time `t`, and the source the export reports:
+    /// the towed float, else the drop point.
     pub fn centre_at(&self, t: f64) -> [f32; 2] {
         self.towed_at(t).or(self.impulse).unwrap_or([0.0; 2])
-    }
-
-    /// The source to report at time `t`: the towed float's position, else the drop point.
-    pub fn source_at(&self, t: f64) -> [f32; 2] {
-        self.centre_at(t)
     }
 }
 

@@ -270,3 +270,24 @@ fn one_and_two_threads_give_the_same_bits() {
     assert!(one.0 == two.0 && one.1 == two.1 && one.2 == two.2);
     assert!(one.1.iter().any(|&h| h != 0.0));
 }
+
+/// A strong splash whitens the water where it lands and the foam fades within seconds; a
+/// gentle one (the rings' tests) leaves next to none beyond its own.
+#[test]
+fn a_strong_splash_foams_and_the_foam_fades() {
+    let mut l = layer(256);
+    let mut s = sphere_at(1.0, -2.0);
+    s.impulse = 0.5 * 4.0 * 0.5;
+    s.foam = 1.0;
+    l.step(&[s]);
+    let at = |l: &InteractionLayer| l.foam_at(1.0, -2.0);
+    let fresh = at(&l);
+    run_to(&mut l, 1.0);
+    let after_1 = at(&l);
+    run_to(&mut l, 10.0);
+    let after_10 = at(&l);
+    eprintln!("foam at the splash: {fresh:.2}, {after_1:.2} after 1 s, {after_10:.3} after 10 s");
+    assert!(fresh > 0.5, "{fresh}");
+    assert!(after_10 < 0.1 * fresh, "{after_10}");
+    assert_eq!(l.foam_at(1e4, 0.0), 0.0, "outside the layer");
+}
