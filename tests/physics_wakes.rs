@@ -125,16 +125,21 @@ fn a_body_at_rest_keeps_its_draft() {
     assert!((a - b).abs() < 0.02, "{a} vs {b}");
 }
 
-/// A launched boat motors away at about its speed and leaves a wake in the layer.
-#[test]
-fn a_launched_boat_motors_and_leaves_a_wake() {
+/// A flat sea (surfaces never stepped) and a world without a deck or a layer.
+fn flat_sea_without_deck() -> (Surfaces, Floaters) {
     let cfg = OceanConfig::default_cascades(64).unwrap();
-    let surfaces = Surfaces::new(&cfg);
-    let mut world = Floaters::new(PhysicsConfig {
+    let world = Floaters::new(PhysicsConfig {
         deck: None,
         ..PhysicsConfig::default()
     })
     .unwrap();
+    (Surfaces::new(&cfg), world)
+}
+
+/// A launched boat motors away at about its speed and leaves a wake in the layer.
+#[test]
+fn a_launched_boat_motors_and_leaves_a_wake() {
+    let (surfaces, mut world) = flat_sea_without_deck();
     let c = InteractionConfig::default_with_dt(PHYSICS_DT).unwrap();
     world.set_interaction(Some(c), Vec2::ZERO);
     let id = world
@@ -164,13 +169,7 @@ fn a_launched_boat_motors_and_leaves_a_wake() {
 fn a_hand_in_the_water_ripples_it() {
     use glam::Quat;
     use vr_ocean::physics::HandInput;
-    let cfg = OceanConfig::default_cascades(64).unwrap();
-    let surfaces = Surfaces::new(&cfg);
-    let mut world = Floaters::new(PhysicsConfig {
-        deck: None,
-        ..PhysicsConfig::default()
-    })
-    .unwrap();
+    let (surfaces, mut world) = flat_sea_without_deck();
     let hand = |x: f32, y: f32| HandInput {
         grip: 0.0,
         pose: Pose {

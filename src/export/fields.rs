@@ -45,16 +45,7 @@ pub fn write_cascade(
         } else {
             vec![n, n, *comps as u64]
         };
-        write_atomically(&path, |w| {
-            use npyz::WriterBuilder;
-            let mut npy = npyz::WriteOptions::new()
-                .default_dtype()
-                .shape(&shape)
-                .writer(w)
-                .begin_nd()?;
-            npy.extend(data.iter().copied())?;
-            npy.finish()
-        })?;
+        write_npy(&path, &shape, data)?;
         written.push(path);
     }
     let path = dir.join(format!("{stem}.exr"));
@@ -119,16 +110,7 @@ pub fn write_whitecaps(
             })
             .collect();
         let path = dir.join(format!("{stem}_whitecaps_l{l}.npy"));
-        write_atomically(&path, |out| {
-            use npyz::WriterBuilder;
-            let mut npy = npyz::WriteOptions::new()
-                .default_dtype()
-                .shape(&[t as u64, t as u64])
-                .writer(out)
-                .begin_nd()?;
-            npy.extend(data.iter().copied())?;
-            npy.finish()
-        })?;
+        write_npy(&path, &[t as u64, t as u64], &data)?;
         written.push(path);
         levels.push(serde_json::json!({
             "level": l,
@@ -140,14 +122,7 @@ pub fn write_whitecaps(
         }));
     }
     let path = dir.join(format!("{stem}_whitecaps.json"));
-    let text =
-        serde_json::to_string_pretty(&serde_json::json!({ "levels": levels })).map_err(|e| {
-            ExportError {
-                path: path.clone(),
-                source: io::Error::other(e),
-            }
-        })?;
-    super::write_bytes(&path, text.as_bytes())?;
+    write_json(&path, &serde_json::json!({ "levels": levels }))?;
     written.push(path);
     Ok(written)
 }
@@ -165,16 +140,7 @@ pub fn write_interaction(
 ) -> Result<Vec<PathBuf>, ExportError> {
     let n = layer.config().cells.n() as u64;
     let path = dir.join(format!("{stem}_interaction_height.npy"));
-    write_atomically(&path, |out| {
-        use npyz::WriterBuilder;
-        let mut npy = npyz::WriteOptions::new()
-            .default_dtype()
-            .shape(&[n, n])
-            .writer(out)
-            .begin_nd()?;
-        npy.extend(layer.heights().iter().copied())?;
-        npy.finish()
-    })?;
+    write_npy(&path, &[n, n], layer.heights())?;
     let mut written = vec![path];
     let [ox, oz] = layer.origin_m();
     let path = dir.join(format!("{stem}_interaction.json"));
@@ -188,11 +154,30 @@ pub fn write_interaction(
         "time": layer.time(),
         "energy_j": layer.stats().energy_j,
     });
-    let text = serde_json::to_string_pretty(&json).map_err(|e| ExportError {
-        path: path.clone(),
-        source: io::Error::other(e),
-    })?;
-    super::write_bytes(&path, text.as_bytes())?;
+    write_json(&path, &json)?;
     written.push(path);
     Ok(written)
+}
+
+/// Writes `data` as a float32 `.npy` of `shape` at `path`, atomically.
+fn write_npy(path: &Path, shape: &[u64], data: &[f32]) -> Result<(), ExportError> {
+    write_atomically(path, |w| {
+        use npyz::WriterBuilder;
+        let mut npy = npyz::WriteOptions::new()
+            .default_dtype()
+            .shape(shape)
+            .writer(w)
+            .begin_nd()?;
+        npy.extend(data.iter().copied())?;
+        npy.finish()
+    })
+}
+
+/// Writes `value` as pretty JSON at `path`, atomically.
+fn write_json(path: &Path, value: &serde_json::Value) -> Result<(), ExportError> {
+    let text = serde_json::to_string_pretty(value).map_err(|e| ExportError {
+        path: path.to_owned(),
+        source: io::Error::other(e),
+    })?;
+    super::write_bytes(path, text.as_bytes())
 }
