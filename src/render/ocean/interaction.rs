@@ -5,6 +5,7 @@
 
 use ash::vk;
 
+use super::textures::{region, sampler_with};
 use crate::render::barrier::{self, Access, ImageBarrier};
 use crate::render::context::GpuContext;
 use crate::render::error::RenderError;
@@ -54,19 +55,8 @@ impl InteractionTexture {
                 transient: false,
             },
         )?;
-        let info = vk::SamplerCreateInfo::default()
-            .mag_filter(vk::Filter::LINEAR)
-            .min_filter(vk::Filter::LINEAR)
-            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
-            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .min_lod(0.0)
-            .max_lod(0.0);
-        // SAFETY: a valid create info on a live device.
-        self.sampler = ctx.create("vkCreateSampler", || unsafe {
-            ctx.device.create_sampler(&info, None)
-        })?;
+        let clamp = vk::SamplerAddressMode::CLAMP_TO_EDGE;
+        self.sampler = sampler_with(ctx, 0.0, [clamp, clamp])?;
         Ok(())
     }
 
@@ -91,23 +81,15 @@ impl InteractionTexture {
         }
     }
 
-    /// Copies the layer's texels into `staging` (this texture's part of a slot's buffer);
-    /// `None` (no layer, or one of another size: a renderer made for another preset) stages
+    /// Copies the drawn layer's texels ([`super::RendererSettings::drawn_layer`]: of this
+    /// texture's size) into `staging` (this texture's part of a slot's buffer); `None` stages
     /// zeros. No allocation.
     pub fn stage(&self, staging: &mut [u8], layer: Option<&InteractionLayer>) {
-        let texels = layer
-            .map(|l| l.texels())
-            .filter(|t| t.len() == (self.side * self.side) as usize);
         let part = &mut staging[..(self.side * self.side * 8) as usize];
-        match texels {
-            Some(t) => part.copy_from_slice(bytemuck::cast_slice(t)),
+        match layer {
+            Some(l) => part.copy_from_slice(bytemuck::cast_slice(l.texels())),
             None => part.fill(0),
         }
-    }
-
-    /// Whether `layer` is drawn by this texture (its size matches).
-    pub fn draws(&self, layer: Option<&InteractionLayer>) -> bool {
-        layer.is_some_and(|l| l.config().cells.n() as u32 == self.side && self.side > 1)
     }
 
     /// Records the copy of the staged texels at `offset` of `staging`: shader reads of the
@@ -127,23 +109,7 @@ impl InteractionTexture {
         )
         .discard()];
         barrier::record(d, cmd, to_copy, None);
-        let region = vk::BufferImageCopy {
-            buffer_offset: offset,
-            buffer_row_length: 0,
-            buffer_image_height: 0,
-            image_subresource: vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: 1,
-            },
-            image_offset: vk::Offset3D::default(),
-            image_extent: vk::Extent3D {
-                width: self.side,
-                height: self.side,
-                depth: 1,
-            },
-        };
+        let region = region(offset as usize, 0, 0, self.side);
         // SAFETY: `cmd` is recording; the image is in TRANSFER_DST_OPTIMAL after the barrier,
         // and the region lies inside the staging buffer (`staging_size` at `offset`).
         unsafe {

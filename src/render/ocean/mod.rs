@@ -104,6 +104,17 @@ pub struct RendererSettings {
     pub count_paths: bool,
 }
 
+impl RendererSettings {
+    /// `layer` if this renderer draws it: one of the size it was made for
+    /// ([`RendererSettings::interaction`]; a renderer made for another preset draws none).
+    pub fn drawn_layer<'a>(
+        &self,
+        layer: Option<&'a InteractionLayer>,
+    ) -> Option<&'a InteractionLayer> {
+        layer.filter(|l| Some(l.config().cells) == self.interaction)
+    }
+}
+
 /// The exposed value at the right edge of the tone-map test ramp: past the curve's knee.
 pub const TONEMAP_RAMP_TOP: f32 = 1.5;
 
@@ -328,9 +339,7 @@ impl OceanRenderer {
             slot.uploaded = Some(time);
         }
         // The interaction layer, when it stepped since the last upload (the zero texels once).
-        let layer = input
-            .interaction
-            .filter(|l| self.interaction.draws(Some(l)));
+        let layer = self.settings.drawn_layer(input.interaction);
         let layer_time = layer.map(|l| l.time());
         let layer_upload =
             self.frame <= 1 || (layer.is_some() && self.layer_uploaded != layer_time);

@@ -86,10 +86,7 @@ impl PassConstants {
         g.fade_start = fade[0];
         g.fade_end = fade[1];
         g.interaction = [0.0, 0.0, 0.0, -1.0];
-        let drawn = input
-            .interaction
-            .filter(|l| Some(l.config().cells) == settings.interaction);
-        if let Some(l) = drawn {
+        if let Some(l) = settings.drawn_layer(input.interaction) {
             let [ox, oz] = l.origin_m();
             let side = l.config().side_m();
             g.interaction = [ox, oz, 1.0 / side, 0.5 / l.config().cells.n() as f32];

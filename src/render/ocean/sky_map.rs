@@ -6,6 +6,7 @@
 use ash::vk;
 use glam::Vec3;
 
+use super::textures::sampler_with;
 use super::upload::{upload_levels, Level};
 use crate::render::context::GpuContext;
 use crate::render::error::RenderError;
@@ -83,19 +84,12 @@ impl SkyMap {
                 transient: false,
             },
         )?;
-        let info = vk::SamplerCreateInfo::default()
-            .mag_filter(vk::Filter::LINEAR)
-            .min_filter(vk::Filter::LINEAR)
-            .mipmap_mode(vk::SamplerMipmapMode::LINEAR)
-            .address_mode_u(vk::SamplerAddressMode::REPEAT)
-            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .min_lod(0.0)
-            .max_lod(levels as f32);
-        // SAFETY: a valid create info on a live device.
-        self.sampler = ctx.create("vkCreateSampler", || unsafe {
-            ctx.device.create_sampler(&info, None)
-        })?;
+        // u wraps around the azimuth; v stops at the horizon and the zenith.
+        let address = [
+            vk::SamplerAddressMode::REPEAT,
+            vk::SamplerAddressMode::CLAMP_TO_EDGE,
+        ];
+        self.sampler = sampler_with(ctx, levels as f32, address)?;
         upload(ctx, map, &self.image)
     }
 

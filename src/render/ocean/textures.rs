@@ -225,7 +225,8 @@ impl CascadeTextures {
     }
 }
 
-fn region(offset: usize, layer: u32, level: u32, side: u32) -> vk::BufferImageCopy {
+/// The copy of a `side`² mip `level` of `layer` from `offset` of a staging buffer.
+pub(super) fn region(offset: usize, layer: u32, level: u32, side: u32) -> vk::BufferImageCopy {
     vk::BufferImageCopy {
         buffer_offset: offset as u64,
         buffer_row_length: 0,
@@ -247,13 +248,24 @@ fn region(offset: usize, layer: u32, level: u32, side: u32) -> vk::BufferImageCo
 
 /// A trilinear, repeating sampler reading mips 0..=`max_lod`.
 pub(super) fn sampler(ctx: &GpuContext, max_lod: f32) -> Result<vk::Sampler, RenderError> {
+    use vk::SamplerAddressMode as A;
+    sampler_with(ctx, max_lod, [A::REPEAT, A::REPEAT])
+}
+
+/// A trilinear sampler reading mips 0..=`max_lod`, addressing u and v as `address` says (w as
+/// v).
+pub(super) fn sampler_with(
+    ctx: &GpuContext,
+    max_lod: f32,
+    address: [vk::SamplerAddressMode; 2],
+) -> Result<vk::Sampler, RenderError> {
     let info = vk::SamplerCreateInfo::default()
         .mag_filter(vk::Filter::LINEAR)
         .min_filter(vk::Filter::LINEAR)
         .mipmap_mode(vk::SamplerMipmapMode::LINEAR)
-        .address_mode_u(vk::SamplerAddressMode::REPEAT)
-        .address_mode_v(vk::SamplerAddressMode::REPEAT)
-        .address_mode_w(vk::SamplerAddressMode::REPEAT)
+        .address_mode_u(address[0])
+        .address_mode_v(address[1])
+        .address_mode_w(address[1])
         .min_lod(0.0)
         .max_lod(max_lod);
     // SAFETY: a valid create info on a live device.
