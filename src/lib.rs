@@ -10,6 +10,7 @@
 
 pub mod android;
 pub mod app;
+pub mod audio;
 pub mod base;
 pub mod bench;
 pub mod export;

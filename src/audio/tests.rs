@@ -1,0 +1,224 @@
+//! The soundscape's behaviour, from made-up scenes: loudness with the wind, a splash placed
+//! on the left, splashes on their sample, no clipping, the same seed the same sound.
+
+use glam::{Quat, Vec3};
+
+use super::engine::{SoundConfig, Soundscape, CEILING};
+use super::scene::{Listener, SoundFrame, Splash};
+use super::spatial::{woodworth_itd, HEAD_RADIUS, SPEED_OF_SOUND};
+
+const RATE: f32 = 48_000.0;
+
+fn render(engine: &mut Soundscape, seconds: f32) -> Vec<f32> {
+    let mut out = vec![0.0f32; 2 * (seconds * RATE) as usize];
+    engine.render(&mut out);
+    out
+}
+
+fn engine(frame: &SoundFrame) -> Soundscape {
+    let mut e = Soundscape::new(SoundConfig::default()).unwrap();
+    e.set_frame(frame);
+    e
+}
+
+/// Mean square over both channels.
+fn power(x: &[f32]) -> f64 {
+    x.iter().map(|&v| (v as f64) * (v as f64)).sum::<f64>() / x.len() as f64
+}
+
+/// Spectral centroid (Hz) of the left channel by a plain DFT over `n` bins of a Hann window
+/// (slow but exact; tests only).
+fn centroid(x: &[f32]) -> f64 {
+    let n = 4096;
+    let mut num = 0.0;
+    let mut den = 0.0;
+    for chunk in x.chunks_exact(2 * n).take(8) {
+        let w: Vec<f64> = (0..n)
+            .map(|i| {
+                let h = 0.5 - 0.5 * (std::f64::consts::TAU * i as f64 / n as f64).cos();
+                chunk[2 * i] as f64 * h
+            })
+            .collect();
+        for k in (1..n / 2).step_by(4) {
+            let (mut re, mut im) = (0.0, 0.0);
+            let step = std::f64::consts::TAU * k as f64 / n as f64;
+            for (i, v) in w.iter().enumerate() {
+                let a = step * i as f64;
+                re += v * a.cos();
+                im -= v * a.sin();
+            }
+            let mag = re * re + im * im;
+            num += mag * k as f64 * RATE as f64 / n as f64;
+            den += mag;
+        }
+    }
+    num / den
+}
+
+fn windy(speed: f32) -> SoundFrame {
+    SoundFrame {
+        wind_speed: speed,
+        significant_height: 0.0,
+        ..SoundFrame::default()
+    }
+}
+
+#[test]
+fn the_wind_grows_louder_and_brighter() {
+    let mut calm = engine(&windy(5.0));
+    let mut gale = engine(&windy(20.0));
+    // Past the parameters' easing.
+    render(&mut calm, 2.0);
+    render(&mut gale, 2.0);
+    let (a, b) = (render(&mut calm, 4.0), render(&mut gale, 4.0));
+    let db = 10.0 * (power(&b) / power(&a)).log10();
+    let (ca, cb) = (centroid(&a), centroid(&b));
+    eprintln!("wind 5 → 20 m/s: {db:+.1} dB, centroid {ca:.0} → {cb:.0} Hz");
+    assert!(db >= 10.0, "{db} dB");
+    assert!(cb > 1.3 * ca, "{ca} → {cb} Hz");
+}
+
+fn splash_at(position: Vec3, time: f64) -> Splash {
+    Splash {
+        time,
+        position,
+        speed: 5.0,
+        mass: 20.0,
+        radius: 0.25,
+    }
+}
+
+/// First frame in `ch` whose sample exceeds 5 % of that channel's peak.
+fn onset(x: &[f32], ch: usize) -> usize {
+    let peak = x
+        .iter()
+        .skip(ch)
+        .step_by(2)
+        .fold(0.0f32, |m, v| m.max(v.abs()));
+    x.iter()
+        .skip(ch)
+        .step_by(2)
+        .position(|v| v.abs() > 0.05 * peak)
+        .expect("a splash was rendered")
+}
+
+#[test]
+fn a_splash_on_the_left_is_louder_and_earlier_on_the_left() {
+    let head = Listener::default();
+    for turn in [0.0f32, 0.7] {
+        let listener = Listener {
+            orientation: Quat::from_rotation_y(turn),
+            ..head
+        };
+        let mut e = engine(&SoundFrame {
+            listener,
+            ..SoundFrame::default()
+        });
+        // 3 m to the head's left.
+        let left = listener.orientation * Vec3::new(-3.0, 0.0, 0.0);
+        e.splash(splash_at(listener.position + left, 0.01));
+        let out = render(&mut e, 1.5);
+        let l: Vec<f32> = out.iter().step_by(2).copied().collect();
+        let r: Vec<f32> = out.iter().skip(1).step_by(2).copied().collect();
+        let db = 10.0 * (power(&l) / power(&r)).log10();
+        let itd = (onset(&out, 1) as f32 - onset(&out, 0) as f32) / RATE;
+        let model = woodworth_itd(std::f32::consts::FRAC_PI_2);
+        eprintln!(
+            "turn {turn}: left {db:+.1} dB over right, arrives {:.3} ms first (model {:.3})",
+            itd * 1e3,
+            model * 1e3
+        );
+        assert!(db > 3.0, "{db} dB");
+        assert!((itd - model).abs() < 1.0e-4, "{itd} s vs {model} s");
+    }
+    assert!(
+        (woodworth_itd(std::f32::consts::FRAC_PI_2) - HEAD_RADIUS / SPEED_OF_SOUND * 2.5708).abs()
+            < 1e-6
+    );
+}
+
+#[test]
+fn a_splash_starts_on_its_sample() {
+    // Straight ahead: both ears the same; the common delay is under 20 samples.
+    let listener = Listener::default();
+    for at in [0.2, 0.5137, 0.9] {
+        let mut e = engine(&SoundFrame::default());
+        e.splash(splash_at(
+            listener.position + Vec3::new(0.0, -1.5, -3.0),
+            at,
+        ));
+        let out = render(&mut e, 1.2);
+        let start = onset(&out, 0) as f64 / RATE as f64;
+        assert!((start - at).abs() < 1.0e-3, "{start} vs {at}");
+    }
+}
+
+#[test]
+fn a_storm_of_splashes_never_clips_or_goes_nan() {
+    let mut frame = windy(25.0);
+    frame.significant_height = 8.0;
+    for (k, w) in frame.wash.iter_mut().enumerate() {
+        w.position = Vec3::new(k as f32 - 1.5, 0.0, 1.0);
+        w.rise = 3.0;
+        w.clearance = 0.0;
+    }
+    for (k, b) in frame.breaking.iter_mut().enumerate() {
+        b.position = Vec3::new(5.0 * (k as f32).cos(), 0.0, 5.0 * (k as f32).sin());
+        b.production = 5.0;
+        b.foam = 5.0;
+    }
+    let mut e = engine(&frame);
+    for k in 0..12 {
+        let mut s = splash_at(Vec3::new(0.0, 0.0, -0.5), 0.05 * k as f64);
+        s.mass = 500.0;
+        s.speed = 15.0;
+        e.splash(s);
+    }
+    let out = render(&mut e, 3.0);
+    assert!(out.iter().all(|v| v.is_finite()));
+    let peak = out.iter().fold(0.0f32, |m, v| m.max(v.abs()));
+    assert!(peak <= CEILING, "{peak}");
+    assert!(
+        e.stats().peak > CEILING,
+        "the limiter was exercised: {}",
+        e.stats().peak
+    );
+    // Bad input is dropped, not rendered.
+    let mut bad = splash_at(Vec3::new(f32::NAN, 0.0, 0.0), 3.1);
+    e.splash(bad);
+    bad.position = Vec3::ZERO;
+    bad.mass = -1.0;
+    e.splash(bad);
+    assert_eq!(e.stats().dropped, 2);
+}
+
+#[test]
+fn the_same_seed_makes_the_same_sound() {
+    let frame = windy(12.0);
+    let mut a = engine(&frame);
+    let mut b = engine(&frame);
+    a.splash(splash_at(Vec3::new(2.0, 0.0, -2.0), 0.3));
+    b.splash(splash_at(Vec3::new(2.0, 0.0, -2.0), 0.3));
+    assert_eq!(render(&mut a, 1.0), render(&mut b, 1.0));
+    let mut c = Soundscape::new(SoundConfig {
+        seed: 2,
+        ..SoundConfig::default()
+    })
+    .unwrap();
+    c.set_frame(&frame);
+    assert_ne!(render(&mut a, 0.5), render(&mut c, 0.5));
+}
+
+#[test]
+fn bad_settings_are_refused_with_their_range() {
+    let e = Soundscape::new(SoundConfig {
+        volume: 1.5,
+        ..SoundConfig::default()
+    });
+    assert!(e.err().unwrap().to_string().contains("0 (silent) to 1"));
+    let e = Soundscape::new(SoundConfig {
+        sample_rate: 1000,
+        ..SoundConfig::default()
+    });
+    assert!(e.is_err());
+}
