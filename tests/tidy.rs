@@ -16,12 +16,19 @@ const LAYERS: &[(&str, &[&str])] = &[
     ("lod", &["base"]),
     // Floating bodies: read the simulation's heights, beside `lod`.
     ("physics", &["base", "sim"]),
+    // Sound: made from the simulation's sea, beside `physics` (the app hands it the impacts).
+    ("audio", &["base", "sim"]),
     ("render", &["base", "sim", "lod", "physics"]),
     ("xr", &["base", "sim", "lod", "render", "physics"]),
-    ("app", &["base", "sim", "lod", "render", "xr", "physics"]),
+    (
+        "app",
+        &["base", "sim", "lod", "render", "xr", "physics", "audio"],
+    ),
     (
         "android",
-        &["base", "sim", "lod", "render", "xr", "app", "physics"],
+        &[
+            "base", "sim", "lod", "render", "xr", "app", "physics", "audio",
+        ],
     ),
     // Tools of the command line, beside the layers: they read the simulation only.
     ("bench", &["base", "sim"]),

@@ -3,7 +3,10 @@
 //! runtime's system name), no validation layer (the APK ships none), cascades over a 2048 m
 //! ocean, and as many simulation workers as the performance cores allow (`sim::workers`).
 
-use crate::app::{interaction_for, DeckPlacement, FloatOptions, GovernorOptions, RunOptions};
+use crate::app::{
+    interaction_for, DeckPlacement, FloatOptions, GovernorOptions, RunOptions, SoundOptions,
+    SoundSink,
+};
 use crate::base::ParamError;
 use crate::lod::{LodSettings, OceanSize, QualityPreset};
 use crate::physics::{BodyCount, DEFAULT_DECK_HEIGHT};
@@ -61,6 +64,11 @@ pub fn run_options(
         governor: GovernorOptions {
             enabled: true,
             ..GovernorOptions::default()
+        },
+        // The sea's sound on the headset's speakers (AAudio).
+        audio: SoundOptions {
+            sink: SoundSink::Device,
+            ..SoundOptions::default()
         },
     })
 }

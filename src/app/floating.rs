@@ -16,8 +16,9 @@ use glam::{Vec2, Vec3};
 
 use crate::lod::QualityPreset;
 use crate::physics::hands::GRAB_REACH;
+use crate::physics::impacts::MAX_IMPACTS;
 use crate::physics::{
-    BodyCount, BodyKind, Floaters, Hand, HandEvent, HandInput, HandState, PhysicsConfig,
+    BodyCount, BodyKind, Floaters, Hand, HandEvent, HandInput, HandState, Impact, PhysicsConfig,
     PhysicsError, PHYSICS_DT,
 };
 use crate::render::ocean::{Solid, SolidKind, MAX_SOLIDS};
@@ -88,7 +89,13 @@ pub struct Afloat {
     /// Whether each hand was in the water last frame (a haptic tick as it goes in).
     wet: [bool; 2],
     solids: Vec<Solid>,
+    /// This frame's impacts (bodies and hands), timed on the frames' clock.
+    impacts: Vec<Impact>,
 }
+
+/// A hand plunging into the water, as an impact: a hand and forearm's mass and size.
+const HAND_MASS: f32 = 0.6;
+const HAND_SIZE: f32 = 0.05;
 
 impl Afloat {
     /// Checks `opts`; the world is made on the first frame.
@@ -102,6 +109,7 @@ impl Afloat {
             hands: [Hand::new(); 2],
             wet: [false; 2],
             solids: Vec::with_capacity(MAX_SOLIDS),
+            impacts: Vec::with_capacity(MAX_IMPACTS + 2),
         })
     }
 
@@ -153,6 +161,7 @@ impl Afloat {
         };
         let world = self.world.insert(world);
         let mut ticks = [false; 2];
+        let mut hand_in = [None; 2];
         world.follow(Vec2::new(viewer.x, viewer.z));
         for (i, ((hand, input), tick)) in self
             .hands
@@ -164,9 +173,30 @@ impl Afloat {
             *tick = drive_hand(world, hand, input.as_ref());
             let wet = input.is_some_and(|input| world.dip(&input, surfaces));
             *tick |= wet && !self.wet[i];
+            if let (true, false, Some(input)) = (wet, self.wet[i], input.as_ref()) {
+                hand_in[i] = Some(Impact {
+                    time: frame.predicted_display_time,
+                    position: input.pose.position,
+                    speed: (-input.linvel.y).max(0.0),
+                    mass: HAND_MASS,
+                    radius: HAND_SIZE,
+                });
+            }
             self.wet[i] = wet;
         }
         world.advance(Duration::from_secs_f64(frame.period.max(0.0)), surfaces);
+        // The bodies' impacts, from the physics clock to the frames' (the step that ends
+        // last is at most one step behind this frame's time).
+        let offset = frame.predicted_display_time - world.time();
+        self.impacts.clear();
+        for hit in world.impacts() {
+            self.impacts.push(Impact {
+                time: hit.time + offset,
+                ..*hit
+            });
+        }
+        self.impacts.extend(hand_in.into_iter().flatten());
+        world.clear_impacts();
         world.bring_back(Vec2::new(viewer.x, viewer.z), RESPAWN_DISTANCE, surfaces);
         self.solids.clear();
         if let Some(deck) = world.deck() {
@@ -204,6 +234,12 @@ impl Afloat {
         let head = (frame.views[0].position + frame.views[1].position) * 0.5;
         let forward = frame.views[0].orientation * Vec3::NEG_Z;
         world.throw_from(head, forward, THROW_SPEED).map(|_| ())
+    }
+
+    /// What hit the water during this frame's steps (bodies, then hands going in), with
+    /// times on the frames' clock.
+    pub fn impacts(&self) -> &[Impact] {
+        &self.impacts
     }
 
     /// This frame's solids: the deck, then every live body.

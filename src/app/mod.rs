@@ -5,6 +5,7 @@
 pub mod floating;
 pub mod govern;
 pub mod live;
+pub mod sound;
 pub mod timing;
 
 use std::time::Instant;
@@ -20,6 +21,7 @@ use crate::sim::{OceanConfig, SimError, Simulation};
 use crate::xr::{FrameLoop, FrameState, Tweak, XrError};
 pub use floating::{interaction_for, Afloat, DeckPlacement, FloatOptions};
 pub use govern::{GovernorChange, GovernorOptions, GpuFault};
+pub use sound::{SoundOptions, SoundReport, SoundSink};
 pub use timing::{FrameTimes, Percentiles, Timing};
 
 /// Why a run stopped.
@@ -100,6 +102,8 @@ pub struct RunOptions {
     pub floating: Option<FloatOptions>,
     /// The GPU-time governor (off by default: images and timings stay as configured).
     pub governor: GovernorOptions,
+    /// The sound (off by default).
+    pub audio: SoundOptions,
 }
 
 /// One captured frame: both eyes as tightly packed sRGB RGBA8 rows.
@@ -140,6 +144,8 @@ pub struct RunReport {
     /// The shading paths and invocations counted per frame, when the renderer counted them
     /// ([`RendererSettings::count_paths`]).
     pub paths: Option<render::budget::PathCounts>,
+    /// What the sound output did, when the run had sound.
+    pub audio: Option<SoundReport>,
 }
 
 /// What a caller of [`run`] hears about while frames go by.
@@ -174,8 +180,9 @@ pub fn run(
             Err(e) => break Err(e),
         }
     };
-    let (mut report, xr) = frames.finish();
+    let (mut report, xr, audio) = frames.finish();
     result?;
+    report.audio = audio?;
     report.validation_errors = xr.gpu().validation_errors() - errors_before;
     Ok(report)
 }
@@ -192,6 +199,8 @@ struct Frames<'a> {
     afloat: Option<Afloat>,
     /// The GPU-time governor, when on.
     governed: Option<govern::Governed>,
+    /// The sound, when on.
+    ears: Option<sound::Ears>,
     /// Whether the first simulation step was started.
     started: bool,
     stats: RunStats,
@@ -228,6 +237,7 @@ impl<'a> Frames<'a> {
         let lod = OceanLod::new(opts.lod);
         let sim = Simulation::new(opts.ocean.clone(), opts.threads)?;
         let afloat = opts.floating.as_ref().map(Afloat::new).transpose()?;
+        let ears = sound::Ears::new(&opts.audio)?;
         // The renderer draws the interaction layer the floating bodies will make.
         let mut settings = opts.renderer;
         settings.interaction = opts
@@ -266,6 +276,7 @@ impl<'a> Frames<'a> {
             readback,
             afloat,
             governed,
+            ears,
             started: false,
             stats: RunStats {
                 times: FrameTimes::with_capacity(16_384),
@@ -315,6 +326,10 @@ impl<'a> Frames<'a> {
             for (hand, _) in ticks.iter().enumerate().filter(|(_, &t)| t) {
                 self.xr.haptic_tick(hand);
             }
+        }
+        if let Some(ears) = self.ears.as_mut() {
+            let waves = &self.sim.config().waves;
+            ears.hear(&frame, self.sim.surfaces(), waves, self.afloat.as_ref())?;
         }
         self.sim
             .begin_step(frame.predicted_display_time + frame.period);
@@ -428,8 +443,15 @@ impl<'a> Frames<'a> {
     }
 
     /// Waits for the GPU, frees the renderer's objects and returns the report (validation
-    /// errors not yet counted) and the backend.
-    fn finish(mut self) -> (RunReport, &'a mut dyn FrameLoop) {
+    /// errors not yet counted), the backend and what the sound did (its file finished).
+    #[allow(clippy::type_complexity)]
+    fn finish(
+        mut self,
+    ) -> (
+        RunReport,
+        &'a mut dyn FrameLoop,
+        Result<Option<SoundReport>, AppError>,
+    ) {
         let gpu = self.xr.gpu();
         gpu.wait_idle();
         let attachment_bytes = self.renderer.attachment_bytes();
@@ -451,8 +473,10 @@ impl<'a> Frames<'a> {
             device: gpu.device_name.clone(),
             governor: self.governed.map_or(Vec::new(), |g| g.history),
             paths,
+            audio: None,
         };
-        (report, self.xr)
+        let audio = self.ears.as_mut().map(|e| e.finish()).transpose();
+        (report, self.xr, audio)
     }
 
     /// Moves the sun by the given degrees (the window's time-of-day keys); a sun out of range

@@ -3,7 +3,7 @@
 
 use clap::{Args, ValueEnum};
 
-use vr_ocean::app::{self as app, GovernorOptions, GpuFault, RunOptions};
+use vr_ocean::app::{self as app, GovernorOptions, GpuFault, RunOptions, SoundOptions, SoundSink};
 use vr_ocean::base::ParamError;
 use vr_ocean::lod::{LodSettings, OceanSize, QualityPreset};
 use vr_ocean::physics::{BodyCount, PhysicsError};
@@ -242,6 +242,14 @@ pub struct ViewArgs {
     /// once it ends, back up.
     #[arg(long, value_name = "MS@FROM-TO", value_parser = GpuFault::parse)]
     pub fault_gpu_ms: Option<GpuFault>,
+    /// Sound from the sea (wind, swell, wash, whitecaps, splashes) on the audio device; with
+    /// no device, one warning and a silent run [default: on for window and xr, off for
+    /// headless, which writes it with --audio-out].
+    #[arg(long, value_enum)]
+    pub audio: Option<OnOff>,
+    /// Master volume of the sound, 0 (silent) to 1 (full).
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1.0)]
+    pub volume: f32,
 }
 
 /// `--bodies` when not given.
@@ -294,6 +302,29 @@ impl ViewArgs {
             warmup,
             floating: None,
             governor: self.governor(false)?,
+            audio: self.sound(false)?,
+        })
+    }
+
+    /// The sound's options: on the audio device unless `--audio off` when `default_on`, else
+    /// only with `--audio on`.
+    pub fn sound(&self, default_on: bool) -> Result<SoundOptions, ParamError> {
+        if !(0.0..=1.0).contains(&self.volume) {
+            return Err(ParamError::new(
+                "volume",
+                self.volume as f64,
+                "0 (silent) to 1 (full)",
+            ));
+        }
+        let on = self.audio.map_or(default_on, |a| a == OnOff::On);
+        Ok(SoundOptions {
+            sink: if on {
+                SoundSink::Device
+            } else {
+                SoundSink::Off
+            },
+            volume: self.volume,
+            seed: self.ocean.seed,
         })
     }
 

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, ValueEnum};
 
-use super::args::{preset, ViewArgs};
+use super::args::{preset, OnOff, ViewArgs};
 use super::report::{self, ValidationWatch};
 use super::CmdResult;
 use vr_ocean::app::{self, DeckPlacement, FloatOptions, FrameTimes};
@@ -56,6 +56,10 @@ pub struct HeadlessArgs {
     /// Image format of the saved frames: png (lossless) or jpeg (quality 90, small files).
     #[arg(long, value_enum, default_value_t = ImageFormat::Png)]
     pub format: ImageFormat,
+    /// Writes the run's sound to this WAV file (16-bit stereo, 48 kHz), rendered in step with
+    /// the drawn frames: the same path and seed make the same file.
+    #[arg(long)]
+    pub audio_out: Option<PathBuf>,
 }
 
 /// How captured frames are saved.
@@ -175,6 +179,14 @@ pub fn headless_cmd(a: HeadlessArgs) -> CmdResult {
         deck: DeckPlacement::UnderViewer,
         interaction: a.view.interaction(),
     });
+    if let Some(wav) = &a.audio_out {
+        if a.view.audio == Some(OnOff::On) {
+            return Err("--audio on plays the sound and --audio-out writes it: choose one".into());
+        }
+        let dir = wav.parent().filter(|d| !d.as_os_str().is_empty());
+        export::prepare_dir(dir.unwrap_or(std::path::Path::new(".")))?;
+        opts.audio.sink = app::SoundSink::File(wav.clone());
+    }
     export::prepare_dir(&a.out)?;
     let mut xr = HeadlessXr::new(&a.view.context(), size, path, a.frames)?.settle(settle);
     a.view.resolve_msaa(&mut opts, xr.gpu());
@@ -202,11 +214,19 @@ pub fn headless_cmd(a: HeadlessArgs) -> CmdResult {
     let json_path = a.out.join("frame_times.json");
     report::write_frame_times(&json_path, &report, opts.renderer.stereo.name())?;
     print_times(&report.times);
+    print_sound(&report);
     for f in &pngs.saved {
         println!("wrote {}", f.display());
     }
     println!("wrote {}", json_path.display());
     validation.check()
+}
+
+/// The sound's line, when the run had sound.
+fn print_sound(report: &app::RunReport) {
+    if let Some(a) = &report.audio {
+        println!("{a}");
+    }
 }
 
 /// Saves captured frames as `frame_NNNNN_{left,right}.{png,jpg}`, numbered from the first
@@ -249,6 +269,7 @@ pub fn window_cmd(a: WindowArgs, fallback: bool) -> CmdResult {
     // Checked before any window or device opens.
     let bodies = a.view.bodies()?;
     let mut opts = a.view.run_options(Vec::new(), warmup)?;
+    opts.audio = a.view.sound(true)?;
     opts.floating = Some(FloatOptions {
         bodies,
         deck: DeckPlacement::UnderViewer,
@@ -293,6 +314,7 @@ pub fn window_cmd(a: WindowArgs, fallback: bool) -> CmdResult {
     println!("{} frames", report.frames);
     print_governor(&report.governor);
     print_times(&report.times);
+    print_sound(&report);
     if let Some(file) = &a.screenshot {
         let shot = screenshot.ok_or(
             "no screenshot: the last frame was not shown (window minimised), or the window's \
@@ -311,6 +333,7 @@ pub fn xr_cmd(a: XrArgs) -> CmdResult {
     // Checked before any window or device opens.
     let bodies = a.view.bodies()?;
     let mut opts = a.view.run_options(Vec::new(), 10)?;
+    opts.audio = a.view.sound(true)?;
     opts.floating = Some(FloatOptions {
         bodies,
         deck: DeckPlacement::At(a.deck_height),
@@ -371,6 +394,7 @@ pub fn xr_cmd(a: XrArgs) -> CmdResult {
     let report = result?;
     println!("{} frames rendered", report.frames);
     print_times(&report.times);
+    print_sound(&report);
     validation.check()
 }
 
@@ -378,8 +402,11 @@ pub fn xr_cmd(a: XrArgs) -> CmdResult {
 fn headless_fallback(why: &str, view: ViewArgs) -> CmdResult {
     println!("{why}; rendering 144 frames headless into ./{FALLBACK_DIR}/ instead");
     let out = PathBuf::from(FALLBACK_DIR);
+    // The sound goes with the images unless asked for (on the device) or off.
+    let audio_out = view.audio.is_none().then(|| out.join("sound.wav"));
     headless_cmd(HeadlessArgs {
         view,
+        audio_out,
         frames: 144,
         size: "640x640".into(),
         path: None,

@@ -49,6 +49,7 @@ pub mod clock;
 mod convert;
 pub mod error;
 pub mod hands;
+pub mod impacts;
 pub mod interact;
 pub mod motor;
 pub mod spawn;
@@ -62,6 +63,7 @@ pub use body::{BodyKind, BodySpec};
 pub use clock::{FixedClock, Ticks};
 pub use error::PhysicsError;
 pub use hands::{Hand, HandCommand, HandEvent, HandInput, HandState};
+pub use impacts::Impact;
 pub use spawn::BodyCount;
 pub use world::{BodyId, BodyInstance, BodyState, Energy, Floaters};
 

@@ -13,6 +13,7 @@ use crate::physics::buoyancy::{self, Motion, Water, ADDED_MASS_COEFFICIENT};
 use crate::physics::clock::{FixedClock, Ticks};
 use crate::physics::convert::{from_rapier, pose_from_rapier, pose_to_rapier, to_rapier};
 use crate::physics::error::PhysicsError;
+use crate::physics::impacts::{Impact, Impacts};
 use crate::physics::wakes::Wakes;
 use crate::physics::water::{key, WaterSamples};
 use crate::physics::{DeckSpec, PhysicsConfig, Pose, MAX_BODIES, PHYSICS_DT};
@@ -111,6 +112,8 @@ pub struct Floaters {
     pub(crate) throws: u64,
     /// The interaction layer and its sources, when on ([`Floaters::set_interaction`]).
     pub(crate) wakes: Option<Wakes>,
+    /// Bodies hitting the water since the last [`Floaters::clear_impacts`].
+    pub(crate) impacts: Impacts,
 }
 
 impl Floaters {
@@ -141,6 +144,7 @@ impl Floaters {
             steps: 0,
             throws: 0,
             wakes: None,
+            impacts: Impacts::new(),
         })
     }
 
@@ -341,6 +345,7 @@ impl Floaters {
             match s.state {
                 BodyState::Sunk => {}
                 BodyState::Held => {
+                    self.impacts.lift(i);
                     if let Some(hold) = &s.hold {
                         let (v, w) = drive_to(&s.curr, &hold.target);
                         rb.set_linvel(to_rapier(v), true);
@@ -378,6 +383,15 @@ impl Floaters {
                         (f.submerged / (s.hull.area() * buoyancy::WET_LENGTH)).clamp(0.0, 1.0);
                     let dry_weight = s.added * water.gravity * (1.0 - wet);
                     rb.add_force(to_rapier(f.force - Vec3::Y * dry_weight), true);
+                    let size = s.spec.size();
+                    let impact = Impact {
+                        time: self.steps as f64 * PHYSICS_DT as f64,
+                        position: s.curr.position,
+                        speed: -rb.linvel().y,
+                        mass: s.mass,
+                        radius: 0.25 * (size.x + size.z),
+                    };
+                    self.impacts.observe(i, wet, impact);
                     if s.motor.is_some() && wet > 0.0 {
                         motors[i] = Some(from_rapier(rb.linvel()));
                     }

@@ -63,6 +63,7 @@ pub fn small_options(stereo: StereoMode, capture: Vec<u64>) -> RunOptions {
         warmup: 0,
         floating: None,
         governor: Default::default(),
+        audio: Default::default(),
     }
 }
 

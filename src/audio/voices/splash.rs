@@ -6,8 +6,9 @@
 //! thinning out over a second.
 //!
 //! Loudness follows the impact's kinetic energy as E^0.35 (radiated power grows roughly with
-//! E, loudness as its cube root; the exponent and scale are our choice, tested for order
-//! and not for decibels).
+//! E, loudness as its cube root) times v/(v + 1.5 m/s): a slow entry is gentle whatever the
+//! mass (a heavy boat settling back at 0.5 m/s slaps softly). The exponents and scale are our
+//! choice, tested for order and not for decibels.
 
 use glam::Vec3;
 
@@ -15,8 +16,10 @@ use super::bubbles::{poisson, Bubbles, Sizes, MINNAERT};
 use crate::audio::dsp::{Band, Biquad, Rng};
 use crate::audio::scene::Splash;
 
-/// Amplitude at 1 m of a 100 J impact.
-const LOUD_AT_100J: f32 = 0.6;
+/// Amplitude at 1 m of a 100 J impact, before the speed factor.
+const LOUD_AT_100J: f32 = 0.8;
+/// Speed (m/s) at which the speed factor v/(v + v₀) is one half.
+const GENTLE_SPEED: f32 = 1.5;
 /// Exponent of loudness in energy.
 const ENERGY_EXPONENT: f32 = 0.35;
 /// Loudest amplitude at 1 m (the limiter catches the sum).
@@ -89,9 +92,11 @@ impl SplashVoice {
         }
     }
 
-    /// Loudness at 1 m for an impact of `energy` J.
-    pub fn loudness_for(energy: f32) -> f32 {
-        (LOUD_AT_100J * (energy.max(0.0) / 100.0).powf(ENERGY_EXPONENT)).min(MAX_LOUD)
+    /// Loudness at 1 m for an impact of `energy` J at `speed` m/s.
+    pub fn loudness_for(energy: f32, speed: f32) -> f32 {
+        let speed = speed.max(0.0);
+        let gentle = speed / (speed + GENTLE_SPEED);
+        (LOUD_AT_100J * (energy.max(0.0) / 100.0).powf(ENERGY_EXPONENT) * gentle).min(MAX_LOUD)
     }
 
     /// Starts `splash` `wait` samples into the next block.
@@ -100,7 +105,7 @@ impl SplashVoice {
         self.position = Some(splash.position);
         self.wait = wait;
         self.age = 0.0;
-        self.loud = Self::loudness_for(splash.energy());
+        self.loud = Self::loudness_for(splash.energy(), splash.speed);
         self.slap = self.loud;
         let tau = 0.012 + 0.04 * r.min(1.0);
         self.slap_decay = (-1.0 / (tau * self.rate)).exp();

@@ -14,7 +14,7 @@ use super::ramp;
 use crate::audio::dsp::{Band, Biquad, OnePole, Rng, Smooth};
 
 /// Rumble amplitude at Hs = 2 m and moderate heave.
-const RUMBLE_AT_2M: f32 = 0.05;
+const RUMBLE_AT_2M: f32 = 0.02;
 /// Rumble cut-off (Hz).
 const RUMBLE_CUTOFF: f32 = 100.0;
 /// Rise speed (m/s) of the wash points at which the heave term is 1.
