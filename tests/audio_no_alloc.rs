@@ -7,47 +7,14 @@ mod common;
 
 use std::time::Duration;
 
-use glam::{Vec2, Vec3};
+use glam::Vec2;
 use vr_ocean::audio::listen::{DeckOutline, ProbeInput, SeaProbe};
-use vr_ocean::audio::{
-    AudioOutput, Listener, SoundConfig, SoundFrame, Soundscape, Splash, WavRecorder,
-};
+use vr_ocean::audio::measure::{busy_sea, thrown_crate};
+use vr_ocean::audio::{AudioOutput, Listener, SoundConfig, Soundscape, Splash, WavRecorder};
 use vr_ocean::sim::{OceanConfig, Simulation};
 
 #[global_allocator]
 static GLOBAL: common::Counting = common::Counting;
-
-/// Every voice busy: gale, high sea, water at the deck, whitecaps all round.
-fn busy_frame(time: f64) -> SoundFrame {
-    let mut f = SoundFrame {
-        time,
-        wind_speed: 22.0,
-        significant_height: 6.0,
-        ..SoundFrame::default()
-    };
-    for (k, w) in f.wash.iter_mut().enumerate() {
-        w.position = Vec3::new(2.0 * (k as f32 - 1.5), 0.0, -1.0);
-        w.rise = (time as f32 * 3.0 + k as f32).sin();
-        w.clearance = 0.2 * (time as f32 * 2.0).cos();
-    }
-    for (k, b) in f.breaking.iter_mut().enumerate() {
-        let a = k as f32 * 0.785;
-        b.position = Vec3::new(8.0 * a.cos(), 0.0, 8.0 * a.sin());
-        b.production = 0.5;
-        b.foam = 1.0;
-    }
-    f
-}
-
-fn splash(time: f64) -> Splash {
-    Splash {
-        time,
-        position: Vec3::new(-3.0, 0.0, -2.0),
-        speed: 6.0,
-        mass: 25.0,
-        radius: 0.3,
-    }
-}
 
 fn the_soundscape_and_recorder_do_not_allocate() {
     let mut engine = Soundscape::new(SoundConfig::default()).unwrap();
@@ -57,9 +24,9 @@ fn the_soundscape_and_recorder_do_not_allocate() {
     let mut t = 0.0;
     let mut step = |engine: &mut Soundscape, wav: &mut WavRecorder, t: &mut f64, k: u32| {
         *t += 0.01;
-        let f = busy_frame(*t);
+        let f = busy_sea(*t);
         engine.set_frame(&f);
-        let splashes = [splash(*t)];
+        let splashes = [thrown_crate(*t)];
         let hits: &[Splash] = if k % 20 == 0 { &splashes } else { &[] };
         if let Some(s) = hits.first() {
             engine.splash(*s);
@@ -109,7 +76,7 @@ fn the_callback_and_the_frame_side_do_not_allocate() {
         let link = out.sender();
         link.publish(&sound);
         if k % 10 == 0 {
-            link.splash(splash(*t));
+            link.splash(thrown_crate(*t));
         }
         std::thread::sleep(Duration::from_millis(5));
     };

@@ -157,6 +157,16 @@ impl Ears {
             wind_toward_deg: waves.wind_direction_deg,
             deck,
         });
+        if frame.index % 72 == 0 {
+            let (made, foam) = sound
+                .breaking
+                .iter()
+                .fold((0.0, 0.0), |(m, f), b| (m + b.production, f + b.foam));
+            log::debug!(
+                "sound at {:.2} s: whitecaps made {made:.4}/s, lying {foam:.4} (area/r² sums)",
+                frame.predicted_display_time
+            );
+        }
         self.splashes.clear();
         for hit in afloat.map_or(&[][..], |a| a.impacts()) {
             self.splashes.push(Splash {

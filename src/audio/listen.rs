@@ -25,6 +25,9 @@ const PER_SECTOR: usize = RINGS.len() * PER_RING;
 /// Lattice step (m) by which a whitecap sample is keyed: the finest whitecap level's.
 const KEY_STEP: f32 = 0.5;
 
+/// One step of the published coverage (R8).
+const COVERAGE_CODE: f32 = 1.5 / 255.0;
+
 /// Distance (m) from the listener's feet of the wash points when there is no deck.
 pub const OPEN_WATER_WASH: f32 = 1.5;
 
@@ -137,8 +140,10 @@ impl SeaProbe {
                     let c = whitecaps.coverage_at(x, z).unwrap_or(0.0);
                     let key = ((x / KEY_STEP).round() as i32, (z / KEY_STEP).round() as i32);
                     let slot = &mut self.foam[s][ring * PER_RING + j];
+                    // Coverage is published in 1/255 steps: a step of one code is not foam
+                    // being made.
                     let made = match dt {
-                        Some(dt) if slot.0 == key => (c - slot.1).max(0.0) / dt,
+                        Some(dt) if slot.0 == key => (c - slot.1 - COVERAGE_CODE).max(0.0) / dt,
                         _ => 0.0,
                     };
                     *slot = (key, c);

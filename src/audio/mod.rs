@@ -21,6 +21,7 @@
 //! | `player.rs` | the callback's work |
 //! | `device.rs` | cpal, or the silent clock |
 //! | `wav.rs` | `--audio-out` |
+//! | `measure.rs` | power, centroid, onsets of rendered sound (tests, benchmark) |
 //!
 //! Invariants: the audio callback never allocates, locks, blocks or does I/O
 //! (`tests/audio_no_alloc.rs`); the same seed, frames and splashes render the same samples;
@@ -32,6 +33,7 @@ pub mod dsp;
 pub mod engine;
 pub mod link;
 pub mod listen;
+pub mod measure;
 pub mod player;
 pub mod scene;
 pub mod spatial;

@@ -4,6 +4,7 @@
 use glam::{Quat, Vec3};
 
 use super::engine::{SoundConfig, Soundscape, CEILING};
+use super::measure::{self, centroid, power};
 use super::scene::{Listener, SoundFrame, Splash};
 use super::spatial::{woodworth_itd, HEAD_RADIUS, SPEED_OF_SOUND};
 
@@ -19,40 +20,6 @@ fn engine(frame: &SoundFrame) -> Soundscape {
     let mut e = Soundscape::new(SoundConfig::default()).unwrap();
     e.set_frame(frame);
     e
-}
-
-/// Mean square over both channels.
-fn power(x: &[f32]) -> f64 {
-    x.iter().map(|&v| (v as f64) * (v as f64)).sum::<f64>() / x.len() as f64
-}
-
-/// Spectral centroid (Hz) of the left channel by a plain DFT over `n` bins of a Hann window
-/// (slow but exact; tests only).
-fn centroid(x: &[f32]) -> f64 {
-    let n = 4096;
-    let mut num = 0.0;
-    let mut den = 0.0;
-    for chunk in x.chunks_exact(2 * n).take(8) {
-        let w: Vec<f64> = (0..n)
-            .map(|i| {
-                let h = 0.5 - 0.5 * (std::f64::consts::TAU * i as f64 / n as f64).cos();
-                chunk[2 * i] as f64 * h
-            })
-            .collect();
-        for k in (1..n / 2).step_by(4) {
-            let (mut re, mut im) = (0.0, 0.0);
-            let step = std::f64::consts::TAU * k as f64 / n as f64;
-            for (i, v) in w.iter().enumerate() {
-                let a = step * i as f64;
-                re += v * a.cos();
-                im -= v * a.sin();
-            }
-            let mag = re * re + im * im;
-            num += mag * k as f64 * RATE as f64 / n as f64;
-            den += mag;
-        }
-    }
-    num / den
 }
 
 fn windy(speed: f32) -> SoundFrame {
@@ -72,7 +39,10 @@ fn the_wind_grows_louder_and_brighter() {
     render(&mut gale, 2.0);
     let (a, b) = (render(&mut calm, 4.0), render(&mut gale, 4.0));
     let db = 10.0 * (power(&b) / power(&a)).log10();
-    let (ca, cb) = (centroid(&a), centroid(&b));
+    let (ca, cb) = (
+        centroid(&measure::channel(&a, 0), RATE),
+        centroid(&measure::channel(&b, 0), RATE),
+    );
     eprintln!("wind 5 → 20 m/s: {db:+.1} dB, centroid {ca:.0} → {cb:.0} Hz");
     assert!(db >= 10.0, "{db} dB");
     assert!(cb > 1.3 * ca, "{ca} → {cb} Hz");
@@ -90,16 +60,7 @@ fn splash_at(position: Vec3, time: f64) -> Splash {
 
 /// First frame in `ch` whose sample exceeds 5 % of that channel's peak.
 fn onset(x: &[f32], ch: usize) -> usize {
-    let peak = x
-        .iter()
-        .skip(ch)
-        .step_by(2)
-        .fold(0.0f32, |m, v| m.max(v.abs()));
-    x.iter()
-        .skip(ch)
-        .step_by(2)
-        .position(|v| v.abs() > 0.05 * peak)
-        .expect("a splash was rendered")
+    measure::onset(&measure::channel(x, ch), 0.05).expect("a splash was rendered")
 }
 
 #[test]

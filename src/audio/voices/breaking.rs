@@ -11,9 +11,9 @@ use super::ramp;
 use crate::audio::dsp::{Band, Biquad, Rng};
 
 /// Bubble grains per second per unit of (area/r²-weighted) foam production.
-const GRAINS_PER_PRODUCTION: f32 = 900.0;
+const GRAINS_PER_PRODUCTION: f32 = 600.0;
 /// Grains per second per unit of (area/r²-weighted) standing foam.
-const GRAINS_PER_FOAM: f32 = 120.0;
+const GRAINS_PER_FOAM: f32 = 30.0;
 /// A grain's amplitude at 1 m for a 2 mm bubble.
 const GRAIN_AMP: f32 = 0.12;
 /// Fizz amplitude per √(weighted foam).
