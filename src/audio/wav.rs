@@ -1,6 +1,7 @@
 //! `--audio-out`: the soundscape rendered in step with the frames into a 16-bit stereo WAV
-//! (hound writes the header and the samples; the file is written through a buffer, and a run
-//! that fails keeps what it had rendered, finalized).
+//! (hound writes the header and the samples). The file is written as `NAME.partial` and
+//! renamed when finished, so an interrupted run never leaves a truncated file under the
+//! asked-for name; a run that fails still finishes what it had rendered.
 
 use std::fs::File;
 use std::io::BufWriter;
@@ -15,6 +16,7 @@ pub struct WavRecorder {
     engine: Soundscape,
     writer: Option<hound::WavWriter<BufWriter<File>>>,
     path: PathBuf,
+    partial: PathBuf,
     buffer: [f32; 2 * BLOCK],
     /// Samples written, and where the next frame's end falls (in samples from the start).
     written: u64,
@@ -31,12 +33,16 @@ impl WavRecorder {
             bits_per_sample: 16,
             sample_format: hound::SampleFormat::Int,
         };
-        let writer = hound::WavWriter::create(path, spec)
-            .map_err(|e| AudioError::Io(format!("cannot write {}: {e}", path.display())))?;
+        let mut partial = path.as_os_str().to_owned();
+        partial.push(".partial");
+        let partial = PathBuf::from(partial);
+        let writer = hound::WavWriter::create(&partial, spec)
+            .map_err(|e| AudioError::Io(format!("cannot write {}: {e}", partial.display())))?;
         Ok(Self {
             engine,
             writer: Some(writer),
             path: path.to_path_buf(),
+            partial,
             buffer: [0.0; 2 * BLOCK],
             written: 0,
             start: None,
@@ -92,14 +98,16 @@ impl WavRecorder {
         Ok(())
     }
 
-    /// Finishes the file (its header's lengths); also done, logging any failure, on drop.
+    /// Finishes the file (its header's lengths) and gives it its name; also done, logging any
+    /// failure, on drop.
     pub fn finish(&mut self) -> Result<(), AudioError> {
-        match self.writer.take() {
-            Some(w) => w
-                .finalize()
-                .map_err(|e| AudioError::Io(format!("{}: {e}", self.path.display()))),
-            None => Ok(()),
-        }
+        let Some(w) = self.writer.take() else {
+            return Ok(());
+        };
+        let fail =
+            |e: &dyn std::fmt::Display| AudioError::Io(format!("{}: {e}", self.path.display()));
+        w.finalize().map_err(|e| fail(&e))?;
+        std::fs::rename(&self.partial, &self.path).map_err(|e| fail(&e))
     }
 }
 

@@ -185,6 +185,9 @@ pub fn headless_cmd(a: HeadlessArgs) -> CmdResult {
         }
         let dir = wav.parent().filter(|d| !d.as_os_str().is_empty());
         export::prepare_dir(dir.unwrap_or(std::path::Path::new(".")))?;
+        if wav.is_dir() {
+            return Err(format!("--audio-out {}: a directory, not a file", wav.display()).into());
+        }
         opts.audio.sink = app::SoundSink::File(wav.clone());
     }
     export::prepare_dir(&a.out)?;

@@ -42,7 +42,8 @@ fn at(path: &Path) -> impl FnOnce(io::Error) -> ExportError + '_ {
 /// fails before any work.
 pub fn prepare_dir(dir: &Path) -> Result<(), ExportError> {
     fs::create_dir_all(dir).map_err(at(dir))?;
-    let probe = dir.join(".vr-ocean-write-test");
+    // Per process: runs writing into the same directory at once must not race on it.
+    let probe = dir.join(format!(".vr-ocean-write-test-{}", std::process::id()));
     fs::write(&probe, b"").map_err(at(&probe))?;
     fs::remove_file(&probe).map_err(at(&probe))
 }
