@@ -16,7 +16,7 @@ fn second_of_sound(c: &mut Criterion) {
         let mut buffer = vec![0.0f32; 2 * 480];
         let mut t = 0.0f64;
         let mut second = move |engine: &mut Soundscape| {
-            for k in 0..100 {
+            for k in 0..100u32 {
                 t += 0.01;
                 let frame = if busy {
                     busy_sea(t)
@@ -29,7 +29,7 @@ fn second_of_sound(c: &mut Criterion) {
                     }
                 };
                 engine.set_frame(&frame);
-                if busy && k % 50 == 0 {
+                if busy && k.is_multiple_of(50) {
                     engine.splash(thrown_crate(t));
                 }
                 engine.render(&mut buffer);

@@ -27,7 +27,7 @@ fn the_soundscape_and_recorder_do_not_allocate() {
         let f = busy_sea(*t);
         engine.set_frame(&f);
         let splashes = [thrown_crate(*t)];
-        let hits: &[Splash] = if k % 20 == 0 { &splashes } else { &[] };
+        let hits: &[Splash] = if k.is_multiple_of(20) { &splashes } else { &[] };
         if let Some(s) = hits.first() {
             engine.splash(*s);
         }
@@ -75,7 +75,7 @@ fn the_callback_and_the_frame_side_do_not_allocate() {
         });
         let link = out.sender();
         link.publish(&sound);
-        if k % 10 == 0 {
+        if k.is_multiple_of(10) {
             link.splash(thrown_crate(*t));
         }
         std::thread::sleep(Duration::from_millis(5));

@@ -157,7 +157,7 @@ impl Ears {
             wind_toward_deg: waves.wind_direction_deg,
             deck,
         });
-        if frame.index % 72 == 0 {
+        if frame.index.is_multiple_of(72) {
             let (made, foam) = sound
                 .breaking
                 .iter()

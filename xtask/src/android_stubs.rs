@@ -17,7 +17,7 @@ use std::process::Command;
 use crate::{capture, Failure, Result};
 
 /// The libraries stubbed, by map file stem (the stub is `<stem>.so`).
-pub const LIBRARIES: &[&str] = &["libc", "libm", "libdl", "liblog", "libandroid"];
+pub const LIBRARIES: &[&str] = &["libc", "libm", "libdl", "liblog", "libandroid", "libaaudio"];
 
 /// The architecture tag of arm64 in the maps.
 const ARCH: &str = "arm64";

@@ -568,8 +568,11 @@ pub fn build_apk(opts: &ApkOpts) -> Result<BuiltApk> {
     if opts.release {
         build.arg("--release");
     }
+    // The sound's output (cpal on AAudio); no benchmark baselines.
     if opts.verify_without_ndk {
-        build.args(["--features", "verify-without-ndk"]);
+        build.args(["--features", "audio-device,verify-without-ndk"]);
+    } else {
+        build.args(["--features", "audio-device"]);
     }
     for (k, v) in &tools.cargo_env {
         build.env(k, v);

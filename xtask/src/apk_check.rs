@@ -33,6 +33,8 @@ pub const ALLOWED_NEEDED: &[&str] = &[
     "libdl.so",
     "liblog.so",
     "libandroid.so",
+    // AAudio, the sound's output (cpal's Android backend), public since API 26.
+    "libaaudio.so",
 ];
 
 /// Intent categories the activity must have.

@@ -35,6 +35,9 @@ use std::time::{Duration, Instant};
 /// Debian/Ubuntu packages `cargo xtask test` needs. Add new requirements here (one list, so a
 /// fresh machine gets everything in a single `apt-get install`).
 const APT_PACKAGES: &[&str] = &[
+    // The sound's output device (cpal links ALSA; its build finds it with pkg-config).
+    "libasound2-dev",
+    "pkg-config",
     // Cross-compiling and running the aarch64 (NEON) tests.
     "gcc-aarch64-linux-gnu",
     "libc6-dev-arm64-cross",
@@ -70,11 +73,17 @@ const APT_PACKAGES: &[&str] = &[
     "unzip",
 ];
 
-/// What running the ocean needs on a fresh machine (`cargo xtask run`): the Vulkan loader and
-/// a driver (Mesa's, with lavapipe for machines without a GPU), and libxkbcommon-x11, which
-/// winit loads for a window on X11. Building needs nothing more: the SPIR-V is committed
-/// (`shaders/spirv/`).
-const RUN_APT_PACKAGES: &[&str] = &["libvulkan1", "mesa-vulkan-drivers", "libxkbcommon-x11-0"];
+/// What building and running the ocean needs on a fresh machine (`cargo xtask run`): the Vulkan
+/// loader and a driver (Mesa's, with lavapipe for machines without a GPU), libxkbcommon-x11,
+/// which winit loads for a window on X11, and ALSA's headers and pkg-config, which the sound's
+/// output (cpal) builds against. The SPIR-V is committed (`shaders/spirv/`).
+const RUN_APT_PACKAGES: &[&str] = &[
+    "libvulkan1",
+    "mesa-vulkan-drivers",
+    "libxkbcommon-x11-0",
+    "libasound2-dev",
+    "pkg-config",
+];
 
 /// What `cargo xtask shaders` needs: glslang's compiler, and spirv-opt for the cost variants.
 const SHADER_APT_PACKAGES: &[&str] = &["glslang-tools", "spirv-tools"];
@@ -193,6 +202,8 @@ const STEPS: &[Step] = &[
         header: "CROSS: sim unit tests, sim_physics and sim_derivatives for aarch64-unknown-linux-gnu (NEON path, both derivative modes) under qemu-aarch64-static",
         cargo_args: &[
             "test",
+            // No audio device: cpal's ALSA would need an arm64 libasound to link against.
+            "--no-default-features",
             "--lib",
             "--test",
             "sim_physics",
@@ -236,7 +247,7 @@ commands:
           cargo test --test openxr_monado --test openxr_no_alloc -- --ignored --nocapture
               --test-threads=1 (needs root: first makes sure the Monado root exists, see monado-root,
               and passes its path in VR_OCEAN_MONADO_ROOT)
-          cargo test --lib --test sim_physics --test sim_derivatives
+          cargo test --no-default-features --lib --test sim_physics --test sim_derivatives
               --target aarch64-unknown-linux-gnu   (qemu)
           cargo xtask apk-check
         --quick      skip the slow steps (frame times, Monado, APK, aarch64)
@@ -244,7 +255,7 @@ commands:
   run [--no-setup] [ARGS...]
         Installs what running needs when it is missing (the Vulkan loader and Mesa's
         drivers, and the keyboard library the window needs: libvulkan1
-        mesa-vulkan-drivers libxkbcommon-x11-0, via apt-get, using sudo when not root),
+        mesa-vulkan-drivers libxkbcommon-x11-0 libasound2-dev pkg-config, via apt-get, using sudo when not root),
         then cargo run --release --bin vr-ocean -- ARGS...
         Without ARGS: the ocean in a window (keys in the README); with no display it
         renders 144 frames headless into ./vr-ocean-headless/ and says where.

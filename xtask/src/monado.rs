@@ -32,8 +32,8 @@ pub const SUITE: &str = "trixie";
 pub const MIRROR: &str = "http://deb.debian.org/debian";
 
 /// Packages installed in the root (on top of debootstrap's minbase): the Monado service and
-/// runtime library, the OpenXR loader and core validation layer, and Vulkan on lavapipe with the
-/// Khronos validation layer (trixie's, not the host's).
+/// runtime library, the OpenXR loader and core validation layer, Vulkan on lavapipe with the
+/// Khronos validation layer (trixie's, not the host's), and ALSA's library.
 pub const PACKAGES: &[&str] = &[
     "monado-service",
     "libopenxr1-monado",
@@ -42,6 +42,9 @@ pub const PACKAGES: &[&str] = &[
     "mesa-vulkan-drivers",
     "libvulkan1",
     "vulkan-validationlayers",
+    // The sound's output links ALSA (cpal); the chroot has no sound card, so the run goes
+    // silent on its clock, as on any machine without one.
+    "libasound2t64",
 ];
 
 /// Name of the stamp file inside the root.

@@ -75,7 +75,8 @@ impl<const N: usize> Bubbles<N> {
     /// [`Bubbles::spawn`] with damping `delta` (a torn cavity rings far shorter than a free
     /// bubble).
     pub fn spawn_damped(&mut self, r: f32, amp: f32, delta: f32, rate: f32) {
-        if self.live == N || !(r > 0.0) || !amp.is_finite() || !(delta > 0.0) {
+        let sizes_ok = r.is_finite() && r > 0.0 && delta.is_finite() && delta > 0.0;
+        if self.live == N || !sizes_ok || !amp.is_finite() {
             return;
         }
         let f0 = (MINNAERT / r).min(0.45 * rate);
