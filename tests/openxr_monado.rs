@@ -160,6 +160,38 @@ fn ocean_runs_through_monado_focused_and_exits_cleanly() {
     );
 }
 
+/// Issue 32: a minute of Monado's frames (20 Hz) with the sound on. The chroot has no sound
+/// card: the sound runs on its silent clock (10 ms buffers) beside the frame loop, and no
+/// buffer may finish late.
+#[test]
+#[ignore = "needs root and the Monado root (the `openxr (Monado)` step of cargo xtask test)"]
+fn the_sound_keeps_time_for_a_minute_of_monado_frames() {
+    let root = monado::root_from_env();
+    let service = Monado::start(&root, "sound");
+    let env = monado::xr_validation_env("sound");
+    let run = service.client(
+        Path::new(EXE),
+        &[
+            "xr", "--frames", "1200", "--grid", "64", "--preset", "low", "--wind", "12",
+        ],
+        &monado::env_refs(&env),
+        Duration::from_secs(600),
+    );
+    service.finish();
+    assert!(run.success(), "{run}");
+    let (seconds, underruns) = common::sound_report(&run.stdout);
+    println!(
+        "{}",
+        run.stdout
+            .lines()
+            .find(|l| l.starts_with("audio ("))
+            .unwrap()
+    );
+    assert!(seconds >= 59.0, "{seconds} s of sound\n{run}");
+    assert_eq!(underruns, 0, "{run}");
+    assert!(!run.stderr.contains("ALSA lib"), "{run}");
+}
+
 #[test]
 #[ignore = "needs root and the Monado root (the `openxr (Monado)` step of cargo xtask test)"]
 fn runtime_killed_mid_session_is_a_clean_error() {

@@ -53,7 +53,7 @@ impl AudioOutput {
         match Self::device(config) {
             Ok(out) => Ok(out),
             Err(e) => {
-                log::warn!("audio: {e}; running silent (the sound is still made and timed)");
+                log::warn!("{e}; running silent (the sound is still made and timed)");
                 Self::clock(config, BUFFER_FRAMES)
             }
         }
@@ -83,6 +83,13 @@ impl AudioOutput {
 
     #[cfg(feature = "audio-device")]
     fn device(config: SoundConfig) -> Result<Self, AudioError> {
+        // ALSA reports a missing card on stderr itself, eight lines of it; the one warning
+        // that matters is ours.
+        quiet_alsa::while_opening(|| Self::open_device(config))
+    }
+
+    #[cfg(feature = "audio-device")]
+    fn open_device(config: SoundConfig) -> Result<Self, AudioError> {
         use cpal::traits::{DeviceTrait, HostTrait, StreamTrait};
 
         let fail =
@@ -168,6 +175,55 @@ impl AudioOutput {
             self.sender.counters().snapshot(),
             self.started.elapsed().as_secs_f64(),
         )
+    }
+}
+
+/// ALSA's own error messages silenced on this thread while the device is opened (ALSA 1.1.6's
+/// per-thread handler, `snd_lib_error_set_local`); elsewhere, nothing to silence.
+#[cfg(feature = "audio-device")]
+mod quiet_alsa {
+    #[cfg(target_os = "linux")]
+    pub fn while_opening<R>(f: impl FnOnce() -> R) -> R {
+        use std::ffi::{c_char, c_int, c_void};
+
+        /// ALSA's `snd_local_error_handler_t`: the message's format and its `va_list` (a
+        /// pointer in the x86-64 and AArch64 calling conventions), ignored.
+        type Handler = unsafe extern "C" fn(
+            *const c_char,
+            c_int,
+            *const c_char,
+            c_int,
+            *const c_char,
+            *mut c_void,
+        );
+
+        unsafe extern "C" fn ignore(
+            _file: *const c_char,
+            _line: c_int,
+            _func: *const c_char,
+            _err: c_int,
+            _fmt: *const c_char,
+            _args: *mut c_void,
+        ) {
+        }
+
+        // libasound is linked by cpal's ALSA backend (alsa-sys).
+        extern "C" {
+            fn snd_lib_error_set_local(handler: Option<Handler>) -> Option<Handler>;
+        }
+
+        // SAFETY: the handler has ALSA's signature and touches nothing; the previous
+        // handler (this thread's) is put back below.
+        let previous = unsafe { snd_lib_error_set_local(Some(ignore)) };
+        let result = f();
+        // SAFETY: restores what ALSA returned above.
+        unsafe { snd_lib_error_set_local(previous) };
+        result
+    }
+
+    #[cfg(not(target_os = "linux"))]
+    pub fn while_opening<R>(f: impl FnOnce() -> R) -> R {
+        f()
     }
 }
 

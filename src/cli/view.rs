@@ -84,6 +84,9 @@ pub struct WindowArgs {
     /// Quit after this many frames (unattended runs and tests); default: until Esc.
     #[arg(long)]
     pub frames: Option<u64>,
+    /// Quit after this many seconds of wall-clock time (timed runs, 0.1 to 86400).
+    #[arg(long, allow_negative_numbers = true)]
+    pub seconds: Option<f64>,
     /// Save the window's last frame as PNG (needs --frames).
     #[arg(long, requires = "frames")]
     pub screenshot: Option<PathBuf>,
@@ -282,10 +285,18 @@ pub fn window_cmd(a: WindowArgs, fallback: bool) -> CmdResult {
         let dir = shot.parent().filter(|d| !d.as_os_str().is_empty());
         export::prepare_dir(dir.unwrap_or(std::path::Path::new(".")))?;
     }
+    let duration = match a.seconds {
+        None => None,
+        Some(s) if s.is_finite() && (0.1..=86_400.0).contains(&s) => {
+            Some(std::time::Duration::from_secs_f64(s))
+        }
+        Some(s) => return Err(ParamError::new("seconds", s, "seconds in [0.1, 86400]").into()),
+    };
     let options = WindowOptions {
         size,
         path,
         frames: a.frames,
+        duration,
         screenshot: a.screenshot.is_some(),
     };
     let mut xr = match WindowXr::new(&a.view.context(), options) {

@@ -1,19 +1,23 @@
 //! Impacts: the moments bodies hit the water, for the ears (issue 32). A body counts as
 //! entering when it had been out of the water (less than [`DRY`] of its hull's wet length
-//! under) and is now in it, moving down; it is armed again only once it is out again, so a
-//! body bobbing in the waves does not splash at every crest. Events carry the physics clock's
+//! under) for at least [`AIRBORNE`] and is now in it, moving down: a body bobbing on the
+//! crests, or a hull flickering across the threshold, does not splash at every step. Events carry the physics clock's
 //! time of the step that saw the entry; the app reads and clears them each frame.
 
 use glam::Vec3;
 
 use super::world::Floaters;
-use super::MAX_BODIES;
+use super::{MAX_BODIES, PHYSICS_DT};
 
 /// Most impacts kept between two reads (more in one frame are dropped).
 pub const MAX_IMPACTS: usize = 16;
 
 /// Wet fraction below which a body is out of the water.
 pub const DRY: f32 = 0.02;
+
+/// How long a body must have been out of the water for its entry to count (s): a thrown
+/// body's flight, not a boat's hull lifting off a crest for a few steps.
+pub const AIRBORNE: f32 = 0.25;
 
 /// Slowest entry that counts (m/s, downward).
 pub const MIN_IMPACT_SPEED: f32 = 0.5;
@@ -36,14 +40,15 @@ pub struct Impact {
 /// What the step sees: the impacts so far and which bodies are out of the water.
 pub(crate) struct Impacts {
     events: Vec<Impact>,
-    dry: [bool; MAX_BODIES],
+    /// Steps each body has been out of the water.
+    dry: [u32; MAX_BODIES],
 }
 
 impl Impacts {
     pub(crate) fn new() -> Self {
         Self {
             events: Vec::with_capacity(MAX_IMPACTS),
-            dry: [false; MAX_BODIES],
+            dry: [0; MAX_BODIES],
         }
     }
 
@@ -53,9 +58,8 @@ impl Impacts {
             return;
         };
         if wet < DRY {
-            *dry = true;
-        } else if *dry {
-            *dry = false;
+            *dry = dry.saturating_add(1);
+        } else if std::mem::take(dry) as f32 * PHYSICS_DT >= AIRBORNE {
             let fast = impact.speed >= MIN_IMPACT_SPEED && impact.speed.is_finite();
             if fast && self.events.len() < MAX_IMPACTS {
                 self.events.push(impact);
@@ -66,7 +70,7 @@ impl Impacts {
     /// A body left the water's forces (held, sunk): out of the water for the next entry.
     pub(crate) fn lift(&mut self, slot: usize) {
         if let Some(d) = self.dry.get_mut(slot) {
-            *d = true;
+            *d = u32::MAX;
         }
     }
 
@@ -112,14 +116,24 @@ mod tests {
         // Spawned afloat: no splash.
         i.observe(0, 0.5, hit(1.0));
         assert!(i.events().is_empty());
-        i.observe(0, 0.0, hit(1.0));
+        for _ in 0..30 {
+            i.observe(0, 0.0, hit(1.0));
+        }
         i.observe(0, 0.3, hit(4.0));
         i.observe(0, 0.6, hit(3.0));
         assert_eq!(i.events().len(), 1);
         assert_eq!(i.events()[0].speed, 4.0);
         // Out and gently back in: too slow to count.
-        i.observe(0, 0.0, hit(0.1));
+        for _ in 0..30 {
+            i.observe(0, 0.0, hit(0.1));
+        }
         i.observe(0, 0.2, hit(0.1));
+        assert_eq!(i.events().len(), 1);
+        // Out for a few steps (a hull lifting off a crest) and back in fast: no splash.
+        for _ in 0..3 {
+            i.observe(0, 0.0, hit(2.0));
+        }
+        i.observe(0, 0.2, hit(2.0));
         assert_eq!(i.events().len(), 1);
         // Held, then dropped in.
         i.lift(0);

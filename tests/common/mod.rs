@@ -94,3 +94,25 @@ pub fn assert_rejected(args: &[&str], names: &[&str]) {
         );
     }
 }
+
+/// The sound's report line of a run (`audio (SINK): S s of sound, B buffers of F frames, U
+/// under-runs, ...`): seconds of sound and under-runs.
+#[allow(dead_code)]
+pub fn sound_report(stdout: &str) -> (f64, u64) {
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("audio ("))
+        .unwrap_or_else(|| panic!("no audio report line:\n{stdout}"));
+    let number_before = |tail: &str| -> f64 {
+        let head = line.split(tail).next().unwrap();
+        head.rsplit([' ', ',', ':'])
+            .find(|w| !w.is_empty())
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    (
+        number_before(" s of sound"),
+        number_before(" under-runs") as u64,
+    )
+}

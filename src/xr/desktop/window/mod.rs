@@ -44,6 +44,9 @@ pub struct WindowOptions {
     pub path: Option<CameraPath>,
     /// Quit after this many frames (unattended runs and tests); `None` runs until Esc.
     pub frames: Option<u64>,
+    /// Quit after this much wall-clock time (timed runs: the sound's real-time test); `None`
+    /// runs until Esc or `frames`.
+    pub duration: Option<Duration>,
     /// Copy the window image of the last frame (needs `frames`) to the CPU.
     pub screenshot: bool,
 }
@@ -128,6 +131,8 @@ pub struct WindowXr {
     period: f64,
     frame: u64,
     frames: Option<u64>,
+    /// When a timed run ends.
+    deadline: Option<Instant>,
     screenshot_wanted: bool,
     screenshot: Option<Screenshot>,
     acquired: Option<u32>,
@@ -262,6 +267,7 @@ impl WindowXr {
             period,
             frame: 0,
             frames: options.frames,
+            deadline: options.duration.map(|d| now + d),
             screenshot_wanted: options.screenshot,
             screenshot: None,
             acquired: None,
@@ -299,7 +305,8 @@ impl FrameLoop for WindowXr {
     }
 
     fn begin_frame(&mut self) -> Result<Option<FrameState>, XrError> {
-        if self.frames.is_some_and(|n| self.frame >= n) {
+        let timed_out = self.deadline.is_some_and(|d| Instant::now() >= d);
+        if timed_out || self.frames.is_some_and(|n| self.frame >= n) {
             return Ok(None);
         }
         let before = self.window_extent();
