@@ -15,7 +15,7 @@ const GRAINS_PER_PRODUCTION: f32 = 600.0;
 /// Grains per second per unit of (area/r²-weighted) standing foam.
 const GRAINS_PER_FOAM: f32 = 30.0;
 /// A grain's amplitude at 1 m for a 2 mm bubble.
-const GRAIN_AMP: f32 = 0.12;
+const GRAIN_AMP: f32 = 0.2;
 /// Fizz amplitude per √(weighted foam).
 const FIZZ: f32 = 0.02;
 /// Bubble sizes of a spilling crest.

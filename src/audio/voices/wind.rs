@@ -16,7 +16,7 @@ use super::ramp;
 use crate::audio::dsp::{Band, Biquad, Pink, Rng, Smooth};
 
 /// Roar amplitude at 10 m/s (linear, full scale 1).
-const ROAR_AT_10: f32 = 0.09;
+const ROAR_AT_10: f32 = 0.05;
 /// Exponent of the roar's growth with speed.
 const ROAR_EXPONENT: f32 = 1.7;
 /// Spray hiss amplitude per unit of (U − 8 m/s)/12 m/s, to the power 1.5.
