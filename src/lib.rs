@@ -18,4 +18,5 @@ pub mod lod;
 pub mod physics;
 pub mod render;
 pub mod sim;
+pub mod ui;
 pub mod xr;

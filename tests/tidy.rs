@@ -18,16 +18,20 @@ const LAYERS: &[(&str, &[&str])] = &[
     ("physics", &["base", "sim"]),
     // Sound: made from the simulation's sea, beside `physics` (the app hands it the impacts).
     ("audio", &["base", "sim"]),
-    ("render", &["base", "sim", "lod", "physics"]),
-    ("xr", &["base", "sim", "lod", "render", "physics"]),
+    // The user's choices and how they are kept: above the sea, below what draws and runs.
+    ("ui", &["base", "sim", "lod", "physics"]),
+    ("render", &["base", "sim", "lod", "physics", "ui"]),
+    ("xr", &["base", "sim", "lod", "render", "physics", "ui"]),
     (
         "app",
-        &["base", "sim", "lod", "render", "xr", "physics", "audio"],
+        &[
+            "base", "sim", "lod", "render", "xr", "physics", "audio", "ui",
+        ],
     ),
     (
         "android",
         &[
-            "base", "sim", "lod", "render", "xr", "app", "physics", "audio",
+            "base", "sim", "lod", "render", "xr", "app", "physics", "audio", "ui",
         ],
     ),
     // Tools of the command line, beside the layers: they read the simulation only.

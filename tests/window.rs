@@ -42,13 +42,6 @@ fn window_without_a_display_is_a_clear_error() {
     assert!(err.contains("no display"), "{err}");
 }
 
-fn has_xvfb_run() -> bool {
-    Command::new("sh")
-        .args(["-c", "command -v xvfb-run"])
-        .output()
-        .is_ok_and(|o| o.status.success())
-}
-
 /// Mean RGB of a `size`-pixel square at (x, y) of an RGBA image `w` pixels wide.
 fn mean(rgba: &[u8], w: u32, x: u32, y: u32, size: u32) -> [f32; 3] {
     let mut sum = [0.0; 3];
@@ -69,35 +62,23 @@ fn mean(rgba: &[u8], w: u32, x: u32, y: u32, size: u32) -> [f32; 3] {
 /// card are one warning of ours.
 #[test]
 fn the_window_sounds_for_a_minute_without_underruns() {
-    if !has_xvfb_run() {
+    if !common::has_xvfb_run() {
         eprintln!("skipped: xvfb-run is not installed (apt install xvfb; `cargo xtask test` does)");
         return;
     }
     let path = common::scratch_path("window-sound-path.txt");
     std::fs::write(&path, "0  0 6 0  0 -8\n").unwrap();
-    let out = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1024x768x24"])
-        .arg(env!("CARGO_BIN_EXE_vr-ocean"))
-        .args([
-            "window",
-            "--size",
-            "320x160",
+    let out = common::xvfb_window(
+        &common::scratch_path("window-config"),
+        &[
             "--seconds",
             "60",
-            "--grid",
-            "64",
-            "--preset",
-            "low",
-            "--threads",
-            "1",
             "--wind",
             "12",
             "--path",
-        ])
-        .arg(&path)
-        .env("RUST_BACKTRACE", "0")
-        .output()
-        .expect("xvfb-run runs");
+            path.to_str().unwrap(),
+        ],
+    );
     let stdout = String::from_utf8_lossy(&out.stdout);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "stdout:\n{stdout}\nstderr:\n{stderr}");
@@ -115,7 +96,7 @@ fn the_window_sounds_for_a_minute_without_underruns() {
 
 #[test]
 fn window_under_xvfb_shows_both_eyes_without_validation_errors() {
-    if !has_xvfb_run() {
+    if !common::has_xvfb_run() {
         eprintln!("skipped: xvfb-run is not installed (apt install xvfb; `cargo xtask test` does)");
         return;
     }
@@ -124,32 +105,20 @@ fn window_under_xvfb_shows_both_eyes_without_validation_errors() {
     // 6 m above a moderate sea, so no crest reaches the eyes whatever the wall-clock time.
     let path = common::scratch_path("window-path.txt");
     std::fs::write(&path, "0  0 6 0  0 -8\n").unwrap();
-    let out = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1024x768x24"])
-        .arg(env!("CARGO_BIN_EXE_vr-ocean"))
-        .args([
-            "window",
+    let out = common::xvfb_window(
+        &common::scratch_path("window-config"),
+        &[
             "--validation",
-            "--size",
-            "320x160",
             "--frames",
             "60",
-            "--grid",
-            "64",
-            "--preset",
-            "low",
-            "--threads",
-            "1",
             "--wind",
             "7",
             "--path",
-        ])
-        .arg(&path)
-        .arg("--screenshot")
-        .arg(&shot)
-        .env("RUST_BACKTRACE", "0")
-        .output()
-        .expect("xvfb-run runs");
+            path.to_str().unwrap(),
+            "--screenshot",
+            shot.to_str().unwrap(),
+        ],
+    );
     let stdout = String::from_utf8_lossy(&out.stdout);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(

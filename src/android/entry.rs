@@ -4,9 +4,10 @@
 use android_activity::AndroidApp;
 
 use super::frame_loop::ActivityFrameLoop;
-use super::options::{run_options, xr_options};
+use super::options::{apply_settings, run_options, xr_options};
 use super::LOG_TAG;
-use crate::app::{self, AppError};
+use crate::app::{self, AppError, SoundSink};
+use crate::ui::SettingsFile;
 use crate::xr::openxr::OpenXr;
 use crate::xr::FrameLoop;
 
@@ -50,7 +51,16 @@ fn run(app: AndroidApp) -> Result<(), AppError> {
     let cores = std::thread::available_parallelism().ok().map(|n| n.get());
     let max_khz =
         crate::sim::workers::core_max_khz(std::path::Path::new("/sys/devices/system/cpu"));
-    let options = run_options(&xr.headset().defaults(), xr.preset(), &max_khz, cores)?;
+    let mut options = run_options(&xr.headset().defaults(), xr.preset(), &max_khz, cores)?;
+    // The user's choices of the last session, kept in the app's internal files directory.
+    let kept = app.internal_data_path().map(|d| SettingsFile::in_dir(&d));
+    if let Some(file) = &kept {
+        let loaded = file.load();
+        if let Some(w) = &loaded.warning {
+            log::warn!("settings: {w}");
+        }
+        apply_settings(&mut options, &loaded.settings)?;
+    }
     log::info!(
         "OpenXR session ready on {:?}: {} simulation threads (core clocks {max_khz:?} kHz), \
          preset {}, device {}",
@@ -64,6 +74,13 @@ fn run(app: AndroidApp) -> Result<(), AppError> {
     log::info!("openxr summary: {}", frame_loop.xr().summary().line());
     drop(frame_loop);
     let report = result?;
+    if let Some(file) = &kept {
+        let audio = options.audio.sink != SoundSink::Off;
+        match file.save(&report.chosen.settings(options.audio.volume, audio)) {
+            Ok(()) => log::info!("settings saved to {}", file.path().display()),
+            Err(e) => log::warn!("{e}"),
+        }
+    }
     log::info!("{} frames rendered", report.frames);
     for (name, p) in app::timing::TIMINGS.iter().zip(report.times.all()) {
         log::info!(

@@ -13,6 +13,7 @@ use crate::physics::{BodyCount, DEFAULT_DECK_HEIGHT};
 use crate::render::{RendererSettings, Validation};
 use crate::sim::workers::recommended_workers;
 use crate::sim::OceanConfig;
+use crate::ui::Settings;
 use crate::xr::openxr::quest::DeviceDefaults;
 use crate::xr::openxr::OpenXrOptions;
 
@@ -71,6 +72,34 @@ pub fn run_options(
             ..SoundOptions::default()
         },
     })
+}
+
+/// Starts `options` from the kept `settings` (the user's wind, preset, sky and sound of the
+/// last session); a kept sky the renderer refuses is left at the default, with a warning.
+pub fn apply_settings(options: &mut RunOptions, settings: &Settings) -> Result<(), ParamError> {
+    let waves = &mut options.ocean.waves;
+    waves.wind_speed = settings.wind_speed;
+    waves.wind_direction_deg = settings.wind_direction_deg;
+    waves.choppiness = settings.choppiness;
+    if let Some(p) = settings.quality_preset() {
+        options.lod = LodSettings::new(p, OceanSize::new(options.lod.size())?);
+        if let Some(f) = options.floating.as_mut() {
+            f.interaction = f.interaction.map(|_| interaction_for(p));
+        }
+    }
+    let mut sun = options.renderer.sun;
+    sun.elevation_deg = settings.sun_elevation_deg.unwrap_or(sun.elevation_deg);
+    sun.azimuth_deg = settings.sun_azimuth_deg.unwrap_or(sun.azimuth_deg);
+    sun.clouds = settings.clouds.unwrap_or(sun.clouds);
+    match sun.validate() {
+        Ok(()) => options.renderer.sun = sun,
+        Err(e) => log::warn!("kept sky refused ({e}): the default sky"),
+    }
+    options.audio.volume = settings.volume;
+    if !settings.audio {
+        options.audio.sink = SoundSink::Off;
+    }
+    Ok(())
 }
 
 #[cfg(test)]

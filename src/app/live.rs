@@ -6,9 +6,42 @@ use std::fmt::Write as _;
 use std::time::Duration;
 
 use crate::lod::QualityPreset;
+use crate::render::sky::SunSky;
 use crate::sim::{Simulation, WaveParams};
+use crate::ui::{Beaufort, Settings};
 use crate::xr::gpu_governor::QualityStep;
 use crate::xr::Tweak;
+
+/// What the user has chosen by the end of a run (the front ends keep it as settings): the
+/// waves, the quality preset (the user's, not a step the GPU governor took) and the sky.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Chosen {
+    /// Wind, direction, choppiness and the rest of the waves.
+    pub waves: WaveParams,
+    /// The quality preset.
+    pub preset: QualityPreset,
+    /// Sun and clouds.
+    pub sun: SunSky,
+}
+
+impl Chosen {
+    /// The settings to keep: these choices, and the sound as the run had it (`volume`,
+    /// `audio` on or off).
+    pub fn settings(&self, volume: f32, audio: bool) -> Settings {
+        Settings {
+            wind_speed: self.waves.wind_speed,
+            wind_direction_deg: self.waves.wind_direction_deg,
+            choppiness: self.waves.choppiness,
+            preset: self.preset.name().into(),
+            sun_elevation_deg: Some(self.sun.elevation_deg),
+            sun_azimuth_deg: Some(self.sun.azimuth_deg),
+            clouds: Some(self.sun.clouds),
+            volume,
+            audio,
+            ..Settings::default()
+        }
+    }
+}
 
 /// Applies a wave tweak (wind speed, direction, choppiness) through
 /// [`Simulation::set_waves`]; logs the new value, or why it was refused. Preset tweaks are
@@ -23,6 +56,14 @@ pub fn apply_wave_tweak(sim: &mut Simulation, tweak: Tweak) {
         Tweak::WindDirection(d) => {
             waves.wind_direction_deg = (waves.wind_direction_deg + d).rem_euclid(360.0);
             "wind direction"
+        }
+        Tweak::SeaState(d) => {
+            let now = Beaufort::of_wind(waves.wind_speed).map_or(0, Beaufort::number);
+            let to = (now as i32 + d as i32).clamp(0, crate::ui::beaufort::MAX_PRESET as i32);
+            let force = Beaufort::new(to as u8).expect("clamped to the scale");
+            waves.wind_speed = force.wind_speed();
+            log::info!("sea state: Beaufort {to}, {}", force.force().name);
+            "sea state"
         }
         Tweak::Choppiness(d) => {
             // Rounded to the step so repeated presses land on 0 and 2 exactly.
@@ -156,6 +197,24 @@ mod tests {
             apply_wave_tweak(&mut sim, Tweak::Choppiness(0.1));
         }
         assert_eq!(sim.config().waves.choppiness, 2.0);
+        // Sea states by Beaufort force: 12 m/s is force 6; up two is a gale's middle.
+        apply_wave_tweak(&mut sim, Tweak::SeaState(2));
+        assert_eq!(
+            sim.config().waves.wind_speed,
+            Beaufort::new(8).unwrap().wind_speed()
+        );
+        for _ in 0..20 {
+            apply_wave_tweak(&mut sim, Tweak::SeaState(-1));
+        }
+        assert_eq!(
+            sim.config().waves.wind_speed,
+            Beaufort::new(0).unwrap().wind_speed()
+        );
+        apply_wave_tweak(&mut sim, Tweak::SeaState(4));
+        assert_eq!(
+            sim.config().waves.wind_speed,
+            Beaufort::new(4).unwrap().wind_speed()
+        );
         apply_wave_tweak(&mut sim, Tweak::Preset(QualityPreset::Low));
         assert_eq!(sim.config().waves.choppiness, 2.0);
         // The simulation still steps with the new waves.

@@ -5,6 +5,7 @@
 pub mod floating;
 pub mod govern;
 pub mod live;
+pub mod report;
 pub mod sound;
 pub mod timing;
 
@@ -21,6 +22,7 @@ use crate::sim::{OceanConfig, SimError, Simulation};
 use crate::xr::{FrameLoop, FrameState, Tweak, XrError};
 pub use floating::{interaction_for, Afloat, DeckPlacement, FloatOptions};
 pub use govern::{GovernorChange, GovernorOptions, GpuFault};
+pub use report::RunReport;
 pub use sound::{SoundOptions, SoundReport, SoundSink};
 pub use timing::{FrameTimes, Percentiles, Timing};
 
@@ -118,34 +120,6 @@ pub struct Capture<'a> {
     pub height: u32,
     /// Left and right eye pixels.
     pub eyes: [&'a [u8]; 2],
-}
-
-/// What a run measured.
-#[derive(Clone, Debug)]
-pub struct RunReport {
-    /// Frames rendered.
-    pub frames: u64,
-    /// Per-frame timings (warm-up frames excluded).
-    pub times: FrameTimes,
-    /// Most draws recorded in one frame.
-    pub max_draws: u32,
-    /// Mean triangles drawn per timed frame (patches and skirt, both eyes' union), from the
-    /// LOD: a measure of geometry cost that does not depend on the machine.
-    pub mean_triangles: f64,
-    /// Device memory of the renderer's transient attachments (multisampled colour and depth,
-    /// or the depth alone), bytes.
-    pub attachment_bytes: u64,
-    /// Validation errors reported during the run (0 without the layer).
-    pub validation_errors: u32,
-    /// The device's name.
-    pub device: String,
-    /// The GPU-time governor's level changes, in order (empty when it is off).
-    pub governor: Vec<GovernorChange>,
-    /// The shading paths and invocations counted per frame, when the renderer counted them
-    /// ([`RendererSettings::count_paths`]).
-    pub paths: Option<render::budget::PathCounts>,
-    /// What the sound output did, when the run had sound.
-    pub audio: Option<SoundReport>,
 }
 
 /// What a caller of [`run`] hears about while frames go by.
@@ -452,6 +426,14 @@ impl<'a> Frames<'a> {
         &'a mut dyn FrameLoop,
         Result<Option<SoundReport>, AppError>,
     ) {
+        let chosen = live::Chosen {
+            waves: self.sim.config().waves,
+            preset: self
+                .governed
+                .as_ref()
+                .map_or(self.lod.settings().preset(), |g| g.preset),
+            sun: self.renderer.settings().sun,
+        };
         let gpu = self.xr.gpu();
         gpu.wait_idle();
         let attachment_bytes = self.renderer.attachment_bytes();
@@ -474,6 +456,7 @@ impl<'a> Frames<'a> {
             governor: self.governed.map_or(Vec::new(), |g| g.history),
             paths,
             audio: None,
+            chosen,
         };
         let audio = self.ears.as_mut().map(|e| e.finish()).transpose();
         (report, self.xr, audio)

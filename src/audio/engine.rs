@@ -171,9 +171,10 @@ impl Soundscape {
         self.stats
     }
 
-    /// The sea from now on (voices ease toward it).
+    /// The sea from now on (voices ease toward it); values no sea has are made harmless
+    /// ([`SoundFrame::sanitized`]).
     pub fn set_frame(&mut self, frame: &SoundFrame) {
-        self.frame = *frame;
+        self.frame = frame.sanitized();
     }
 
     /// Queues a splash for its time (dropped, and counted, when invalid or the queue is full).

@@ -95,6 +95,64 @@ impl Default for SoundFrame {
     }
 }
 
+/// Farthest a position may be from the origin (m): beyond it, a frame's position is taken as
+/// broken (a far body is silent long before).
+pub const MAX_POSITION: f32 = 1.0e6;
+
+/// `v` when finite, else `fallback`.
+fn finite_or(v: f32, fallback: f32) -> f32 {
+    if v.is_finite() {
+        v
+    } else {
+        fallback
+    }
+}
+
+/// `p` when finite and within [`MAX_POSITION`], else `fallback`.
+fn position_or(p: Vec3, fallback: Vec3) -> Vec3 {
+    if p.is_finite() && p.abs().max_element() <= MAX_POSITION {
+        p
+    } else {
+        fallback
+    }
+}
+
+impl SoundFrame {
+    /// The frame with every value the voices cannot use made harmless: a non-finite or absurd
+    /// number becomes its quiet default (no wind, still water, no foam, no deck), a position
+    /// out of [`MAX_POSITION`] the listener's. The probe never makes such values, but a bad
+    /// frame must never make noise or NaN.
+    pub fn sanitized(&self) -> Self {
+        let mut f = *self;
+        let head = position_or(f.listener.position, Listener::default().position);
+        f.listener.position = head;
+        let q = f.listener.orientation;
+        f.listener.orientation = if q.is_finite() && q.length() > 1e-3 {
+            q.normalize()
+        } else {
+            Quat::IDENTITY
+        };
+        f.wind_speed = finite_or(f.wind_speed, 0.0).clamp(0.0, 60.0);
+        f.wind_toward = f.wind_toward.try_normalize().unwrap_or(Vec2::X);
+        f.significant_height = finite_or(f.significant_height, 0.0).clamp(0.0, 30.0);
+        for w in &mut f.wash {
+            w.position = position_or(w.position, head);
+            w.rise = finite_or(w.rise, 0.0).clamp(-20.0, 20.0);
+            w.clearance = if w.clearance.is_nan() {
+                f32::INFINITY
+            } else {
+                w.clearance.max(-100.0)
+            };
+        }
+        for b in &mut f.breaking {
+            b.position = position_or(b.position, head);
+            b.production = finite_or(b.production, 0.0).clamp(0.0, 100.0);
+            b.foam = finite_or(b.foam, 0.0).clamp(0.0, 100.0);
+        }
+        f
+    }
+}
+
 /// Something hit the water: a body's entry, a hand plunging in.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Splash {
@@ -116,15 +174,17 @@ impl Splash {
         0.5 * self.mass * self.speed * self.speed
     }
 
-    /// Whether every field is finite and the sizes positive: anything else is dropped.
+    /// Whether every field is finite and within reason (speed up to 1000 m/s, mass up to
+    /// 10⁶ kg, radius up to 100 m, position within [`MAX_POSITION`]): anything else is
+    /// dropped.
     pub fn is_valid(&self) -> bool {
         self.time.is_finite()
             && self.position.is_finite()
-            && self.speed.is_finite()
-            && self.speed >= 0.0
-            && self.mass.is_finite()
+            && self.position.abs().max_element() <= MAX_POSITION
+            && (0.0..=1000.0).contains(&self.speed)
             && self.mass > 0.0
-            && self.radius.is_finite()
+            && self.mass <= 1.0e6
             && self.radius > 0.0
+            && self.radius <= 100.0
     }
 }

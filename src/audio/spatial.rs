@@ -54,7 +54,11 @@ pub fn shadow_alpha(theta: f32) -> f32 {
 pub fn place(listener: &Listener, source: Vec3, rate: f32) -> Placement {
     let rel = listener.orientation.inverse() * (source - listener.position);
     let r = rel.length();
-    let dir = if r > 1e-4 { rel / r } else { Vec3::NEG_Z };
+    let dir = if r > 1e-4 && r.is_finite() {
+        rel / r
+    } else {
+        Vec3::NEG_Z
+    };
     let lateral = dir.x.clamp(-1.0, 1.0).asin();
     let itd = woodworth_itd(lateral) * rate;
     // A common offset keeps both delays positive; only their difference is heard.
@@ -62,7 +66,12 @@ pub fn place(listener: &Listener, source: Vec3, rate: f32) -> Placement {
     let theta = |ear: Vec3| dir.dot(ear).clamp(-1.0, 1.0).acos();
     Placement {
         delay: [offset + 0.5 * itd, offset - 0.5 * itd],
-        gain: REFERENCE_DISTANCE / r.max(REFERENCE_DISTANCE),
+        // A source at no finite distance is silent.
+        gain: if r.is_finite() {
+            REFERENCE_DISTANCE / r.max(REFERENCE_DISTANCE)
+        } else {
+            0.0
+        },
         alpha: [
             shadow_alpha(theta(Vec3::NEG_X)),
             shadow_alpha(theta(Vec3::X)),

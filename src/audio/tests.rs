@@ -183,3 +183,24 @@ fn bad_settings_are_refused_with_their_range() {
     });
     assert!(e.is_err());
 }
+
+#[test]
+fn a_broken_frame_is_silenced_not_rendered_as_nan() {
+    let mut frame = windy(f32::NAN);
+    frame.significant_height = f32::INFINITY;
+    frame.listener.position = Vec3::new(3.0e38, -3.0e38, 0.0);
+    frame.listener.orientation = Quat::from_xyzw(0.0, 0.0, 0.0, 0.0);
+    frame.wash[0].rise = f32::NAN;
+    frame.wash[1].clearance = f32::NAN;
+    frame.wash[2].position = Vec3::new(-3.0e38, 0.0, 3.0e38);
+    frame.breaking[0].production = f32::INFINITY;
+    frame.breaking[1].position = Vec3::splat(f32::NAN);
+    let mut e = engine(&frame);
+    let out = render(&mut e, 1.0);
+    assert!(out.iter().all(|v| v.is_finite() && v.abs() <= CEILING));
+    // A splash too big or too fast to be real is dropped.
+    let mut s = splash_at(Vec3::ZERO, 0.0);
+    s.speed = f32::MAX;
+    e.splash(s);
+    assert_eq!(e.stats().dropped, 1);
+}

@@ -26,6 +26,17 @@ pub enum PresetArg {
     Ultra,
 }
 
+impl From<QualityPreset> for PresetArg {
+    fn from(p: QualityPreset) -> Self {
+        match p {
+            QualityPreset::Low => PresetArg::Low,
+            QualityPreset::Medium => PresetArg::Medium,
+            QualityPreset::High => PresetArg::High,
+            QualityPreset::Ultra => PresetArg::Ultra,
+        }
+    }
+}
+
 #[derive(Clone, Copy, ValueEnum)]
 pub enum SpectrumArg {
     Phillips,
@@ -250,6 +261,11 @@ pub struct ViewArgs {
     /// Master volume of the sound, 0 (silent) to 1 (full).
     #[arg(long, allow_negative_numbers = true, default_value_t = 1.0)]
     pub volume: f32,
+    /// Forget the kept settings (wind, preset, sun, sound) before starting; window and xr
+    /// start from them otherwise, where no flag says otherwise, and keep what the run ended
+    /// with (in $XDG_CONFIG_HOME/vr-ocean/settings.json).
+    #[arg(long)]
+    pub reset_settings: bool,
 }
 
 /// `--bodies` when not given.

@@ -6,6 +6,7 @@
 pub mod args;
 pub mod budget;
 pub mod report;
+pub mod settings;
 pub mod tools;
 pub mod view;
 

@@ -6,6 +6,7 @@ use clap::{Args, Parser, ValueEnum};
 
 use super::args::{preset, OnOff, ViewArgs};
 use super::report::{self, ValidationWatch};
+use super::settings;
 use super::CmdResult;
 use vr_ocean::app::{self, DeckPlacement, FloatOptions, FrameTimes};
 use vr_ocean::base::ParamError;
@@ -265,8 +266,12 @@ impl app::RunHooks for FrameWriter {
 }
 
 /// The window mode; with `fallback`, no display means a headless run into [`FALLBACK_DIR`].
-pub fn window_cmd(a: WindowArgs, fallback: bool) -> CmdResult {
+pub fn window_cmd(mut a: WindowArgs, fallback: bool) -> CmdResult {
     let size = WindowSize::parse(&a.size)?;
+    let kept = settings::open(&a.view)?;
+    if let Some(file) = &kept {
+        settings::apply_saved(file, &mut a.view);
+    }
     if a.frames == Some(0) {
         return Err(ParamError::new("frames", 0.0, "at least 1 frame").into());
     }
@@ -323,6 +328,9 @@ pub fn window_cmd(a: WindowArgs, fallback: bool) -> CmdResult {
     // Counts validation errors over the whole window lifetime, shutdown included.
     let validation = ValidationWatch::of(xr.gpu());
     let report = app::run(&mut xr, &opts, &mut app::NoHooks)?;
+    if let Some(file) = &kept {
+        settings::save(file, &a.view, &report);
+    }
     let screenshot = xr.take_screenshot();
     drop(xr);
     println!("{} frames", report.frames);
@@ -340,9 +348,13 @@ pub fn window_cmd(a: WindowArgs, fallback: bool) -> CmdResult {
     validation.check()
 }
 
-pub fn xr_cmd(a: XrArgs) -> CmdResult {
+pub fn xr_cmd(mut a: XrArgs) -> CmdResult {
     if a.frames == Some(0) {
         return Err(ParamError::new("frames", 0.0, "at least 1 frame").into());
+    }
+    let kept = settings::open(&a.view)?;
+    if let Some(file) = &kept {
+        settings::apply_saved(file, &mut a.view);
     }
     // Checked before any window or device opens.
     let bodies = a.view.bodies()?;
@@ -406,6 +418,9 @@ pub fn xr_cmd(a: XrArgs) -> CmdResult {
     drop(xr);
     println!("openxr summary: {}", summary.line());
     let report = result?;
+    if let Some(file) = &kept {
+        settings::save(file, &a.view, &report);
+    }
     println!("{} frames rendered", report.frames);
     print_times(&report.times);
     print_sound(&report);

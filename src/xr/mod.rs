@@ -29,6 +29,9 @@ pub enum Tweak {
     WindDirection(f32),
     /// Change the choppiness λ by this much.
     Choppiness(f32),
+    /// Step the sea state by this many Beaufort forces (the wind set to the new force's
+    /// middle; 0 calm to 10 storm).
+    SeaState(i8),
     /// Switch to this quality preset (rebuilds the LOD and the renderer).
     Preset(QualityPreset),
     /// Throw a crate from the head along the view (the window's throw key).

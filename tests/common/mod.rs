@@ -9,7 +9,7 @@ pub mod monado;
 pub mod physics;
 
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
@@ -69,6 +69,8 @@ pub fn allocations() -> usize {
 pub fn vr_ocean(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_vr-ocean"))
         .args(args)
+        // Kept settings in a scratch directory, never the user's.
+        .env("XDG_CONFIG_HOME", scratch_path("config"))
         .env("RUST_BACKTRACE", "0")
         .output()
         .expect("the binary runs")
@@ -115,4 +117,32 @@ pub fn sound_report(stdout: &str) -> (f64, u64) {
         number_before(" s of sound"),
         number_before(" under-runs") as u64,
     )
+}
+
+/// Whether `xvfb-run` is installed (the window tests skip without it).
+#[allow(dead_code)]
+pub fn has_xvfb_run() -> bool {
+    Command::new("sh")
+        .args(["-c", "command -v xvfb-run"])
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
+/// `vr-ocean window` on a virtual screen: a small, cheap ocean (320x160, 64² grid, low
+/// preset, one simulation thread) plus `args`, keeping its settings under `config` (never the
+/// user's).
+#[allow(dead_code)]
+pub fn xvfb_window(config: &Path, args: &[&str]) -> std::process::Output {
+    Command::new("xvfb-run")
+        .env("XDG_CONFIG_HOME", config)
+        .args(["-a", "-s", "-screen 0 1024x768x24"])
+        .arg(env!("CARGO_BIN_EXE_vr-ocean"))
+        .args([
+            "window", "--size", "320x160", "--grid", "64", "--preset", "low",
+        ])
+        .args(["--threads", "1"])
+        .args(args)
+        .env("RUST_BACKTRACE", "0")
+        .output()
+        .expect("xvfb-run runs")
 }

@@ -246,8 +246,9 @@ impl Monado {
     }
 
     /// Runs `exe` (a host path; copied to `<root>/xr/`) with `args` in the root, connected to
-    /// this service. The environment is `XDG_RUNTIME_DIR`, `XR_RUNTIME_JSON`, `RUST_LOG=info`
-    /// (each unless `env` sets it) and `env`. stdout and stderr are collected; the client is
+    /// this service. The environment is `XDG_RUNTIME_DIR`, `XDG_CONFIG_HOME` (a fresh one: the
+    /// default settings), `XR_RUNTIME_JSON`, `RUST_LOG=info` (each unless `env` sets it) and
+    /// `env`. stdout and stderr are collected; the client is
     /// killed after `timeout`. When `env` names an `XR_CORE_VALIDATION_FILE_NAME`, a stale file
     /// of that name is deleted first (the layer appends).
     pub fn client(
@@ -485,8 +486,11 @@ fn run_client(
 ) -> ClientRun {
     let inside = install_client(root, exe);
     let xdg = runtime_dir_in_root(name);
+    // Each client starts from the default settings and keeps its own (in the root's /tmp).
+    let config = format!("/tmp/vr-ocean-config-{name}-{}", std::process::id());
     let mut vars: Vec<(&str, &str)> = vec![
         ("XDG_RUNTIME_DIR", xdg.as_str()),
+        ("XDG_CONFIG_HOME", config.as_str()),
         ("XR_RUNTIME_JSON", RUNTIME_JSON),
         ("RUST_LOG", "info"),
     ];

@@ -417,6 +417,7 @@ LIBC_DEPRECATED { # arm platform-only
                 "libm" => &["sinf", "fmaf"],
                 "libdl" => &["dlopen", "dl_iterate_phdr"],
                 "liblog" => &["__android_log_write"],
+                "libaaudio" => &["AAudio_createStreamBuilder", "AAudioStream_getXRunCount"],
                 _ => &["ANativeWindow_release", "ALooper_pollOnce"],
             };
             for e in expect {
@@ -432,5 +433,16 @@ LIBC_DEPRECATED { # arm platform-only
             .collect();
         assert!(!all.iter().any(|s| s.starts_with("_Unwind_")));
         assert!(!all.iter().any(|s| s == "memfd_create"), "API 30");
+        // AAudio's API 30 additions are not there at 29 either.
+        let aaudio = std::fs::read_to_string(maps_dir().join("libaaudio.map.txt")).unwrap();
+        let all: Vec<String> = parse_map("libaaudio", &aaudio, 29)
+            .unwrap()
+            .into_iter()
+            .flat_map(|v| v.symbols.into_iter().map(|s| s.name))
+            .collect();
+        assert!(all
+            .iter()
+            .any(|s| s == "AAudioStream_getAllowedCapturePolicy"));
+        assert!(!all.iter().any(|s| s == "AAudioStream_release"), "API 30");
     }
 }

@@ -18,6 +18,7 @@
 mod android_stubs;
 mod apk;
 mod apk_check;
+mod fuzz;
 mod monado;
 mod openxr_loader;
 
@@ -106,12 +107,20 @@ struct Step {
     name: &'static str,
     /// Banner printed before the step, so CI logs show clearly what runs.
     header: &'static str,
-    /// Arguments to `cargo`.
-    cargo_args: &'static [&'static str],
+    /// What it runs.
+    run: Run,
     /// Skipped by `--quick` (slow steps).
     slow: bool,
     /// Runs before cargo (a failure fails the step); returns environment variables for it.
     prepare: Option<Prepare>,
+}
+
+/// What a step runs.
+enum Run {
+    /// `cargo` with these arguments (the toolchain running xtask).
+    Cargo(&'static [&'static str]),
+    /// The fuzz targets, each for a bounded time ([`fuzz::run_all`]).
+    Fuzz,
 }
 
 /// A step's preparation: returns `(name, value)` environment variables for its cargo command.
@@ -121,28 +130,28 @@ const STEPS: &[Step] = &[
     Step {
         name: "fmt",
         header: "rustfmt check",
-        cargo_args: &["fmt", "--all", "--", "--check"],
+        run: Run::Cargo(&["fmt", "--all", "--", "--check"]),
         slow: false,
         prepare: None,
     },
     Step {
         name: "clippy",
         header: "clippy (all targets, warnings are errors)",
-        cargo_args: &[
+        run: Run::Cargo(&[
             "clippy",
             "--workspace",
             "--all-targets",
             "--",
             "-D",
             "warnings",
-        ],
+        ]),
         slow: false,
         prepare: None,
     },
     Step {
         name: "clippy (android)",
         header: "clippy for aarch64-linux-android (the Quest library; no C compiler needed)",
-        cargo_args: &[
+        run: Run::Cargo(&[
             "clippy",
             "--target",
             apk::ANDROID_TARGET,
@@ -150,40 +159,40 @@ const STEPS: &[Step] = &[
             "--",
             "-D",
             "warnings",
-        ],
+        ]),
         slow: false,
         prepare: None,
     },
     Step {
         name: "test (host)",
         header: "tests on the host (Vulkan tests on lavapipe with the Khronos validation layer)",
-        cargo_args: &[
+        run: Run::Cargo(&[
             "test",
             "--workspace",
             "--",
             "--skip",
             "frame_times_on_lavapipe",
-        ],
+        ]),
         slow: false,
         prepare: None,
     },
     Step {
         name: "frame times",
         header: "frame-time tests on lavapipe: table below, target/frame-times.json",
-        cargo_args: &[
+        run: Run::Cargo(&[
             "test",
             "--test",
             "frame_times",
             "--",
             "--nocapture",
-        ],
+        ]),
         slow: true,
         prepare: None,
     },
     Step {
         name: "openxr (Monado)",
         header: "OpenXR tests against Monado (trixie chroot, null compositor, simulated HMD; needs root)",
-        cargo_args: &[
+        run: Run::Cargo(&[
             "test",
             "--test",
             "openxr_monado",
@@ -193,14 +202,14 @@ const STEPS: &[Step] = &[
             "--ignored",
             "--nocapture",
             "--test-threads=1",
-        ],
+        ]),
         slow: true,
         prepare: Some(monado::prepare_step),
     },
     Step {
         name: "test (aarch64/qemu)",
         header: "CROSS: sim unit tests, sim_physics and sim_derivatives for aarch64-unknown-linux-gnu (NEON path, both derivative modes) under qemu-aarch64-static",
-        cargo_args: &[
+        run: Run::Cargo(&[
             "test",
             // No audio device: cpal's ALSA would need an arm64 libasound to link against.
             "--no-default-features",
@@ -218,16 +227,23 @@ const STEPS: &[Step] = &[
             "sim::interaction::tests::towed_sphere_leaves_a_kelvin_wake",
             "--skip",
             "sim::interaction::tests::the_edges_absorb_rings",
-        ],
+        ]),
         slow: true,
         prepare: None,
     },
     Step {
         name: "apk (verify without NDK)",
         header: "the Quest APK linked without the NDK (rust-lld, API 29 stubs, -z defs), packaged with Debian's aapt2, signed, then checked (cargo xtask apk-check)",
-        cargo_args: &["run", "--quiet", "--package", "xtask", "--", "apk-check"],
+        run: Run::Cargo(&["run", "--quiet", "--package", "xtask", "--", "apk-check"]),
         slow: true,
         prepare: None,
+    },
+    Step {
+        name: "fuzz",
+        header: "cargo-fuzz (nightly, libFuzzer): the settings file, camera paths, parameter validation and the sound's input, 60 s each",
+        run: Run::Fuzz,
+        slow: true,
+        prepare: Some(fuzz::prepare_step),
     },
 ];
 
@@ -459,11 +475,16 @@ fn cmd_test(opts: &TestOpts) -> Result<()> {
                 for (key, value) in &envs {
                     say(&format!("with {key}={value}"));
                 }
-                let mut cmd = cargo();
-                cmd.args(step.cargo_args).envs(envs).current_dir(&root);
-                let ok = run_status(&mut cmd)?.success();
-                ok.then_some(())
-                    .ok_or_else(|| format!("cargo {}", step.cargo_args.join(" ")))
+                match step.run {
+                    Run::Cargo(args) => {
+                        let mut cmd = cargo();
+                        cmd.args(args).envs(envs).current_dir(&root);
+                        let ok = run_status(&mut cmd)?.success();
+                        ok.then_some(())
+                            .ok_or_else(|| format!("cargo {}", args.join(" ")))
+                    }
+                    Run::Fuzz => fuzz::run_all(&root, fuzz::CI_SECONDS),
+                }
             }
             Err(err) => {
                 if let Failure::Msg(msg) = err {

@@ -18,6 +18,7 @@ pub const KEYS_HELP: &str = concat!(
     "  1/2      wind speed -/+ 1 m/s  3/4    wind direction -/+ 15 deg\n",
     "  5/6      choppiness -/+ 0.1    F1-F4  quality low/medium/high/ultra\n",
     "  7/8      sun lower/higher 5 deg  9/0  sun azimuth -/+ 15 deg\n",
+    "  [/]      sea state: Beaufort force -/+ 1 (0 calm to 10 storm)\n",
     "  Space    throw a crate along the view\n",
     "  Esc      quit (or close the window)",
 );
@@ -48,6 +49,8 @@ pub fn tweak_for_key(code: KeyCode) -> Option<Tweak> {
         KeyCode::Digit4 => Tweak::WindDirection(15.0),
         KeyCode::Digit5 => Tweak::Choppiness(-0.1),
         KeyCode::Digit6 => Tweak::Choppiness(0.1),
+        KeyCode::BracketLeft => Tweak::SeaState(-1),
+        KeyCode::BracketRight => Tweak::SeaState(1),
         KeyCode::F1 => Tweak::Preset(QualityPreset::Low),
         KeyCode::F2 => Tweak::Preset(QualityPreset::Medium),
         KeyCode::F3 => Tweak::Preset(QualityPreset::High),
@@ -142,7 +145,13 @@ impl ApplicationHandler for Input {
                 } else if let Some(t) = tweak_for_key(code) {
                     // Holding a wave key repeats it; a preset switch or a throw happens once.
                     if !(event.repeat
-                        && matches!(t, Tweak::Preset(_) | Tweak::Throw | Tweak::Sun { .. }))
+                        && matches!(
+                            t,
+                            Tweak::Preset(_)
+                                | Tweak::Throw
+                                | Tweak::Sun { .. }
+                                | Tweak::SeaState(_)
+                        ))
                     {
                         self.push_tweak(t);
                     }

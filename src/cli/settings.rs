@@ -1,0 +1,84 @@
+//! The kept settings at the command line's edge (issue 31): `window` and `xr` start from the
+//! saved choices, except where a flag says otherwise, and save what the user ended with
+//! (the window's keys and the controllers change the wind, the preset and the sun while
+//! running). `--reset-settings` forgets them first. `headless` never reads or writes them:
+//! its images depend on its flags alone.
+
+use vr_ocean::app::RunReport;
+use vr_ocean::ui::SettingsFile;
+
+use super::args::{OnOff, PresetArg, ViewArgs};
+
+/// Whether `flag` (`--wind`) was given on the command line (as `--wind V` or `--wind=V`).
+fn given(flag: &str) -> bool {
+    let with_value = format!("{flag}=");
+    std::env::args()
+        .skip(1)
+        .any(|a| a == flag || a.starts_with(&with_value))
+}
+
+/// The settings file for this run, after `--reset-settings`; `None` when there is nowhere to
+/// keep it (no `$HOME`), said once.
+pub fn open(view: &ViewArgs) -> Result<Option<SettingsFile>, Box<dyn std::error::Error>> {
+    let Some(file) = SettingsFile::desktop() else {
+        log::warn!("settings: neither XDG_CONFIG_HOME nor HOME is set: choices are not kept");
+        return Ok(None);
+    };
+    if view.reset_settings {
+        file.reset()?;
+        println!("settings forgotten ({})", file.path().display());
+    }
+    Ok(Some(file))
+}
+
+/// Applies the saved settings of `file` to `view` where no flag was given.
+pub fn apply_saved(file: &SettingsFile, view: &mut ViewArgs) {
+    let loaded = file.load();
+    if let Some(w) = &loaded.warning {
+        log::warn!("settings: {w}");
+    }
+    let s = loaded.settings;
+    if !given("--wind") {
+        view.ocean.wind = s.wind_speed;
+    }
+    if !given("--wind-dir") {
+        view.ocean.wind_dir = s.wind_direction_deg;
+    }
+    if !given("--choppiness") {
+        view.ocean.choppiness = s.choppiness;
+    }
+    if !given("--preset") {
+        if let Some(p) = s.quality_preset() {
+            view.preset = PresetArg::from(p);
+        }
+    }
+    view.sun_elevation = view.sun_elevation.or(s.sun_elevation_deg);
+    view.sun_azimuth = view.sun_azimuth.or(s.sun_azimuth_deg);
+    view.clouds = view.clouds.or(s.clouds);
+    if !given("--volume") {
+        view.volume = s.volume;
+    }
+    if view.audio.is_none() {
+        view.audio = Some(if s.audio { OnOff::On } else { OnOff::Off });
+    }
+    if loaded.warning.is_none() {
+        log::info!(
+            "settings from {}: wind {:.1} m/s toward {:.0}°, preset {}",
+            file.path().display(),
+            view.ocean.wind,
+            view.ocean.wind_dir,
+            s.preset
+        );
+    }
+}
+
+/// Saves what the run ended with: its waves, preset and sun, and the sound as asked.
+pub fn save(file: &SettingsFile, view: &ViewArgs, report: &RunReport) {
+    let settings = report
+        .chosen
+        .settings(view.volume, view.audio != Some(OnOff::Off));
+    match file.save(&settings) {
+        Ok(()) => log::info!("settings saved to {}", file.path().display()),
+        Err(e) => log::warn!("{e}"),
+    }
+}
