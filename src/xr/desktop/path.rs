@@ -61,6 +61,9 @@ impl std::fmt::Display for PathError {
 
 impl std::error::Error for PathError {}
 
+/// Largest yaw a key may have (degrees): a hundred turns.
+pub const MAX_YAW_DEG: f32 = 36_000.0;
+
 impl CameraPath {
     /// Reads and parses a path file.
     pub fn load(path: &Path) -> Result<Self, PathError> {
@@ -152,6 +155,14 @@ impl CameraPath {
                 return Err(PathError(format!(
                     "line {line_no}: pitch {} is outside (-90, 90) degrees",
                     key.pitch
+                )));
+            }
+            // A yaw that f32 cannot hold (1e40 reads as a finite f64) would turn the view
+            // into NaN; a hundred turns either way is plenty for any path.
+            if !(key.yaw.abs() <= MAX_YAW_DEG) {
+                return Err(PathError(format!(
+                    "line {line_no}: yaw {} is beyond ±{MAX_YAW_DEG} degrees",
+                    fields[4]
                 )));
             }
             if key.position.abs().max_element() > crate::lod::frustum::MAX_COORDINATE {
@@ -273,6 +284,9 @@ mod tests {
             ("-1 0 1 0 0 0", "negative"),
             ("0 0 1 0 0 95", "pitch 95"),
             ("0 1e9 1 0 0 0", "beyond"),
+            // Found by the fuzzer (fuzz/corpus/camera_path/regression-yaw-beyond-f32).
+            ("0 0 6 0 1e43 -12", "yaw 1e43 is beyond"),
+            ("0 0 6 0 40000 0", "beyond ±36000 degrees"),
             ("0 0 1 0 0 0\nthrow", "line 2: expected `throw t`"),
             ("0 0 1 0 0 0\nthrow -1", "line 2: expected `throw t`"),
             ("0 0 1 0 0 0\nboat 1", "line 2: expected `boat t speed`"),
