@@ -58,8 +58,10 @@ pub fn apply_saved(file: &SettingsFile, view: &mut ViewArgs) {
     if !given("--volume") {
         view.volume = s.volume;
     }
-    if view.audio.is_none() {
-        view.audio = Some(if s.audio { OnOff::On } else { OnOff::Off });
+    // Kept off stays off; kept on leaves each command's own default (the window plays it, the
+    // headless fallback of a run without a display writes it to a file).
+    if view.audio.is_none() && !s.audio {
+        view.audio = Some(OnOff::Off);
     }
     if loaded.warning.is_none() {
         log::info!(

@@ -159,7 +159,7 @@ impl CameraPath {
             }
             // A yaw that f32 cannot hold (1e40 reads as a finite f64) would turn the view
             // into NaN; a hundred turns either way is plenty for any path.
-            if !(key.yaw.abs() <= MAX_YAW_DEG) {
+            if !key.yaw.is_finite() || key.yaw.abs() > MAX_YAW_DEG {
                 return Err(PathError(format!(
                     "line {line_no}: yaw {} is beyond ±{MAX_YAW_DEG} degrees",
                     fields[4]
