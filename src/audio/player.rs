@@ -16,6 +16,8 @@ pub struct Player {
     engine: Soundscape,
     link: FrameReceiver,
     scratch: Box<[f32; 2 * SCRATCH_FRAMES]>,
+    /// Whether the thread calling [`Player::fill`] has asked for real-time scheduling.
+    promoted: bool,
 }
 
 impl Player {
@@ -25,12 +27,19 @@ impl Player {
             engine,
             link,
             scratch: Box::new([0.0; 2 * SCRATCH_FRAMES]),
+            promoted: false,
         }
     }
 
     /// Fills `out` (`channels` interleaved) with the next samples: stereo in the first two
     /// channels, silence in the rest (a mono device gets the mix).
     pub fn fill<T: Copy>(&mut self, out: &mut [T], channels: usize, convert: impl Fn(f32) -> T) {
+        if !self.promoted {
+            // Once, on the audio thread itself (cpal's or the clock's): a buffer must not wait
+            // behind the renderer's threads for a core.
+            self.promoted = true;
+            promote_this_thread();
+        }
         let start = Instant::now();
         let frame = *self.link.latest();
         self.engine.set_frame(&frame);
@@ -74,4 +83,30 @@ impl Player {
     pub fn counters(&self) -> &super::link::Counters {
         self.link.counters()
     }
+}
+
+/// Asks the scheduler to run the calling thread as a real-time one (SCHED_FIFO, priority 10,
+/// as audio servers do), or failing that at nice −10; without the privilege it stays as it
+/// is. Linux only: AAudio's callback thread on the Quest is real-time already. Returns what it
+/// got, for the log.
+#[cfg(target_os = "linux")]
+pub fn promote_this_thread() -> &'static str {
+    let param = libc::sched_param { sched_priority: 10 };
+    // SAFETY: `param` is a valid sched_param for this call; pid 0 is the calling thread, whose
+    // scheduling policy is all that changes.
+    if unsafe { libc::sched_setscheduler(0, libc::SCHED_FIFO, &param) } == 0 {
+        return "real-time (SCHED_FIFO 10)";
+    }
+    // SAFETY: on Linux PRIO_PROCESS with who = 0 names the calling thread; only its nice value
+    // changes.
+    if unsafe { libc::setpriority(libc::PRIO_PROCESS, 0, -10) } == 0 {
+        return "nice -10";
+    }
+    "normal priority"
+}
+
+/// Elsewhere the platform's audio thread keeps its own priority.
+#[cfg(not(target_os = "linux"))]
+pub fn promote_this_thread() -> &'static str {
+    "the platform's audio priority"
 }
