@@ -32,7 +32,7 @@ fn the_soundscape_and_recorder_do_not_allocate() {
             engine.splash(*s);
         }
         engine.render(&mut buf);
-        wav.frame(&f, hits, 0.0).unwrap();
+        wav.frame(&f, hits).unwrap();
     };
     for k in 0..200 {
         step(&mut engine, &mut wav, &mut t, k);

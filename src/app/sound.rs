@@ -195,7 +195,7 @@ impl Ears {
                 }
             }
             Output::File(wav) => {
-                wav.frame(&sound, &self.splashes, 0.0).map_err(io)?;
+                wav.frame(&sound, &self.splashes).map_err(io)?;
                 self.render_ns += start.elapsed().as_nanos() as u64;
             }
         }

@@ -87,26 +87,20 @@ impl Player {
 
 /// Asks the scheduler to run the calling thread as a real-time one (SCHED_FIFO, priority 10,
 /// as audio servers do), or failing that at nice −10; without the privilege it stays as it
-/// is. Linux only: AAudio's callback thread on the Quest is real-time already. Returns what it
-/// got, for the log.
+/// is. Linux only: AAudio's callback thread on the Quest is real-time already. Nothing is
+/// logged: this runs on the audio thread.
 #[cfg(target_os = "linux")]
-pub fn promote_this_thread() -> &'static str {
+pub fn promote_this_thread() {
     let param = libc::sched_param { sched_priority: 10 };
     // SAFETY: `param` is a valid sched_param for this call; pid 0 is the calling thread, whose
     // scheduling policy is all that changes.
-    if unsafe { libc::sched_setscheduler(0, libc::SCHED_FIFO, &param) } == 0 {
-        return "real-time (SCHED_FIFO 10)";
+    if unsafe { libc::sched_setscheduler(0, libc::SCHED_FIFO, &param) } != 0 {
+        // SAFETY: on Linux PRIO_PROCESS with who = 0 names the calling thread; only its nice
+        // value changes (a refusal leaves it as it is).
+        unsafe { libc::setpriority(libc::PRIO_PROCESS, 0, -10) };
     }
-    // SAFETY: on Linux PRIO_PROCESS with who = 0 names the calling thread; only its nice value
-    // changes.
-    if unsafe { libc::setpriority(libc::PRIO_PROCESS, 0, -10) } == 0 {
-        return "nice -10";
-    }
-    "normal priority"
 }
 
 /// Elsewhere the platform's audio thread keeps its own priority.
 #[cfg(not(target_os = "linux"))]
-pub fn promote_this_thread() -> &'static str {
-    "the platform's audio priority"
-}
+pub fn promote_this_thread() {}

@@ -60,19 +60,12 @@ impl WavRecorder {
     }
 
     /// Renders the sound up to `frame.time` with `frame`'s sea and `splashes` (events since
-    /// the last frame, at their own times). The file starts at the first frame's time less
-    /// `lead` seconds (the first frame's period: what led up to it).
-    pub fn frame(
-        &mut self,
-        frame: &SoundFrame,
-        splashes: &[Splash],
-        lead: f64,
-    ) -> Result<(), AudioError> {
+    /// the last frame, at their own times). The file starts at the first frame's time.
+    pub fn frame(&mut self, frame: &SoundFrame, splashes: &[Splash]) -> Result<(), AudioError> {
         let rate = self.engine.sample_rate() as f64;
         let start = *self.start.get_or_insert_with(|| {
-            let t = frame.time - lead.max(0.0);
-            self.engine.set_time(t);
-            t
+            self.engine.set_time(frame.time);
+            frame.time
         });
         self.engine.set_frame(frame);
         for s in splashes {
