@@ -10,7 +10,7 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 
 use vr_ocean::sim::evolve::{self, LoopPhase, OutsideSupport};
 use vr_ocean::sim::fft::{Fft2d, Output};
-use vr_ocean::sim::spectrum::{cascade_bands, CascadeSpec, PackedSpectrum};
+use vr_ocean::sim::spectrum::PackedSpectrum;
 use vr_ocean::sim::surface::{self, CascadeSurface, FloatCopies, SurfaceParams, Transformed};
 use vr_ocean::sim::whitecaps::{WhitecapInput, WhitecapState};
 use vr_ocean::sim::{AlignedBuf, Derivatives, OceanConfig, SimCore, SplitField, Support, Surfaces};
@@ -24,12 +24,7 @@ fn stages(c: &mut Criterion) {
                 .unwrap();
             let cfg = OceanConfig::single(n, 250.0).unwrap();
             let grid = cfg.grid;
-            let spec = CascadeSpec {
-                index: 0,
-                patch: 250.0,
-                band: cascade_bands(&cfg.patch_sizes, grid)[0],
-                grid,
-            };
+            let spec = cfg.cascade_specs()[0];
             let spectrum = pool.install(|| PackedSpectrum::generate(&cfg.waves, &spec));
             let fft = Fft2d::new(grid);
             let mut fields: [SplitField; 4] = std::array::from_fn(|_| SplitField::zeros(grid));

@@ -97,7 +97,8 @@ fn the_coarsest_patch_follows_a_live_wind_change() {
     let mut core = SimCore::new(cfg.clone()).unwrap();
     let mut waves = cfg.waves;
     waves.wind_speed = 20.0;
-    core.set_waves(waves).unwrap();
+    // At once: the smooth change (built over steps, then blended) is tests/sea_state_blend.rs's.
+    core.set_waves_at_once(waves).unwrap();
     let grown = core.config().patch_sizes[0];
     assert!(grown > 400.0, "20 m/s: coarsest patch {grown} m");
     // The next step's surfaces carry the new patch (the renderer reads it from there).

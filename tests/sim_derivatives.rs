@@ -186,16 +186,11 @@ fn the_slope_central_differences_lose_is_what_the_spectrum_predicts() {
     // shows is measurable, and its expectation is `SlopeVariance` (resolved for spectral
     // derivatives, resolved_finite for central differences). The finite mode hands the
     // difference to the renderer's roughness, so it must be the right amount.
-    use vr_ocean::sim::spectrum::{cascade_bands, CascadeSpec, PackedSpectrum};
+    use vr_ocean::sim::spectrum::PackedSpectrum;
     let mut cfg = sea(256, Derivatives::Spectral);
     cfg.waves.choppiness = 0.0;
     let finest = cfg.patch_sizes.len() - 1;
-    let spec = CascadeSpec {
-        index: finest as u32,
-        patch: cfg.patch_sizes[finest],
-        band: cascade_bands(&cfg.patch_sizes, cfg.grid)[finest],
-        grid: cfg.grid,
-    };
+    let spec = cfg.cascade_specs()[finest];
     let expected = PackedSpectrum::generate(&cfg.waves, &spec).slopes;
     let measured = |d: Derivatives| {
         let out = surfaces(

@@ -6,7 +6,7 @@ mod common;
 use std::sync::Mutex;
 
 use vr_ocean::sim::interaction::{InteractionConfig, InteractionLayer, WaveSource};
-use vr_ocean::sim::{Derivatives, OceanConfig, Simulation};
+use vr_ocean::sim::{Derivatives, OceanConfig, Simulation, WaveParams};
 
 #[global_allocator]
 static GLOBAL: common::Counting = common::Counting;
@@ -51,6 +51,43 @@ fn steady_state_steps_do_not_allocate() {
              {derivatives} derivatives"
         );
     }
+}
+
+/// A sea-state change (its spectrum built in slices, blended in, the coarsest patch growing an
+/// octave and, on the way back, shrinking) allocates nothing after the call that starts it.
+fn sea_state_changes_do_not_allocate() {
+    let _turn = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let cfg = OceanConfig::default_cascades(64).unwrap();
+    let calm = cfg.waves;
+    let gale = WaveParams {
+        wind_speed: 19.0,
+        ..calm
+    };
+    let mut sim = Simulation::new(cfg.clone(), 2).unwrap();
+    let mut t = 0.0;
+    for _ in 0..10 {
+        t += 1.0 / 72.0;
+        sim.step_blocking(t);
+    }
+    for waves in [gale, calm] {
+        sim.set_waves(waves).unwrap();
+        // The worker takes the new waves with the next step (that call may allocate).
+        t += 1.0 / 72.0;
+        sim.step_blocking(t);
+        let ((), n) = common::count_allocations(|| {
+            // The build (64 steps), the blend (5 s) and the settling, at 72 Hz.
+            for _ in 0..600 {
+                t += 1.0 / 72.0;
+                sim.step_blocking(t);
+            }
+        });
+        assert_eq!(
+            n, 0,
+            "{n} heap allocations while changing to {} m/s",
+            waves.wind_speed
+        );
+    }
+    assert_eq!(sim.surfaces().cascades[0].patch, cfg.patch_sizes[0]);
 }
 
 /// The interaction layer's step and recentring allocate nothing, on 1 and 2 threads.
@@ -105,6 +142,10 @@ fn main() {
     run(
         "steady_state_steps_do_not_allocate",
         steady_state_steps_do_not_allocate,
+    );
+    run(
+        "sea_state_changes_do_not_allocate",
+        sea_state_changes_do_not_allocate,
     );
     run(
         "interaction_steps_do_not_allocate",

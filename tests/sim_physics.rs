@@ -2,7 +2,7 @@
 
 use vr_ocean::sim::evolve::{self, LoopPhase, OutsideSupport};
 use vr_ocean::sim::fft::{Fft2d, Output};
-use vr_ocean::sim::spectrum::{self, cascade_bands, CascadeSpec, PackedSpectrum};
+use vr_ocean::sim::spectrum::{self, CascadeSpec, PackedSpectrum};
 use vr_ocean::sim::surface::{self, CascadeSurface, FloatCopies, SurfaceParams, Transformed};
 use vr_ocean::sim::{
     dispersion, AlignedBuf, FoamParams, GridSize, OceanConfig, SimCore, SpectrumKind, SplitField,
@@ -10,12 +10,7 @@ use vr_ocean::sim::{
 };
 
 fn spec_of(cfg: &OceanConfig, i: usize) -> CascadeSpec {
-    CascadeSpec {
-        index: i as u32,
-        patch: cfg.patch_sizes[i],
-        band: cascade_bands(&cfg.patch_sizes, cfg.grid)[i],
-        grid: cfg.grid,
-    }
+    cfg.cascade_specs()[i]
 }
 
 fn step(core: &mut SimCore, cfg: &OceanConfig, t: f64) -> Surfaces {

@@ -8,6 +8,7 @@ use crate::sim::evolve::{self, LoopPhase, OutsideSupport};
 use crate::sim::fft::{Fft2d, Output};
 use crate::sim::grid::{AlignedBuf, GridSize, SplitField};
 use crate::sim::params::Derivatives;
+use crate::sim::retune::Tuning;
 use crate::sim::spectrum::{CascadeSpec, PackedSpectrum};
 use crate::sim::step::StageTimes;
 use crate::sim::surface::{self, CascadeSurface, SurfaceParams, Transformed};
@@ -50,7 +51,7 @@ impl Fields {
 
 /// What every cascade's stages 2-6 share in one step.
 #[derive(Clone, Copy)]
-pub(super) struct StepAt {
+pub(crate) struct StepAt {
     /// Simulation time (s).
     pub t: f64,
     /// Its loop phase (eq. 24).
@@ -59,21 +60,43 @@ pub(super) struct StepAt {
     pub params: SurfaceParams,
 }
 
-/// One cascade's private state: its packed spectrum, FFT work buffers and persistent foam.
-pub(super) struct CascadeSim {
+/// One cascade's private state: its packed spectrum, FFT work buffers, persistent foam and
+/// the buffers that change its sea state smoothly ([`crate::sim::retune`]).
+pub(crate) struct CascadeSim {
+    /// The grid, patch and band it runs.
     pub spec: CascadeSpec,
+    /// The spectrum the evolution reads (during a sea-state change, the blend).
     pub spectrum: PackedSpectrum,
     fields: Fields,
-    foam: AlignedBuf,
+    /// Persistent foam per texel.
+    pub(crate) foam: AlignedBuf,
+    /// Draws, powers and spare buffers for sea-state changes.
+    pub(crate) tuning: Tuning,
+    /// The patch whose waves it shows ([`CascadeSurface::fade_patch`]).
+    pub(crate) fade_patch: f32,
 }
 
 impl CascadeSim {
-    /// Runs stage 1 for `spec` and allocates the buffers of derivative mode `mode`.
-    pub fn new(spec: CascadeSpec, waves: &crate::sim::WaveParams, mode: Derivatives) -> CascadeSim {
+    /// Runs stage 1 for `spec` and allocates the buffers of derivative mode `mode`; with
+    /// `changes_patch`, also those for moving to another octave of patch.
+    pub fn new(
+        spec: CascadeSpec,
+        waves: &crate::sim::WaveParams,
+        mode: Derivatives,
+        changes_patch: bool,
+    ) -> CascadeSim {
+        let tuning = Tuning::new(&spec, waves, changes_patch);
         CascadeSim {
-            spectrum: PackedSpectrum::generate(waves, &spec),
+            spectrum: PackedSpectrum::from_powers(
+                &tuning.lattice,
+                tuning.powers(),
+                tuning.moments(),
+                tuning.support().clone(),
+            ),
             fields: Fields::new(mode, spec.grid),
             foam: AlignedBuf::zeros(spec.grid.texels()),
+            tuning,
+            fade_patch: spec.patch,
             spec,
         }
     }
@@ -90,6 +113,7 @@ impl CascadeSim {
     ) {
         let StepAt { t, phase, params } = at;
         out.patch = self.spec.patch;
+        out.fade_patch = self.fade_patch;
         let t0 = Instant::now();
         // The FFT neither reads nor needs the rows outside the spectrum's support: the
         // evolution writes no zeros there.

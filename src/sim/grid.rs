@@ -166,6 +166,33 @@ impl Support {
         }
     }
 
+    /// No value at all.
+    pub fn empty() -> Self {
+        Self {
+            rows: 0..0,
+            cols: 0..0,
+        }
+    }
+
+    /// Whether it holds no value.
+    pub fn is_empty(&self) -> bool {
+        self.rows.is_empty() || self.cols.is_empty()
+    }
+
+    /// The smallest support holding both.
+    pub fn union(&self, o: &Support) -> Support {
+        if self.is_empty() {
+            return o.clone();
+        }
+        if o.is_empty() {
+            return self.clone();
+        }
+        Support {
+            rows: self.rows.start.min(o.rows.start)..self.rows.end.max(o.rows.end),
+            cols: self.cols.start.min(o.cols.start)..self.cols.end.max(o.cols.end),
+        }
+    }
+
     /// The smallest support of a field of side `size` where `nonzero(row, col)` says which
     /// values are non-zero.
     pub fn of(size: GridSize, nonzero: impl Fn(usize, usize) -> bool) -> Self {

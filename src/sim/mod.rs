@@ -43,6 +43,7 @@ pub mod interaction;
 pub mod pack;
 pub mod params;
 pub mod query;
+pub mod retune;
 pub mod simd;
 pub mod spectrum;
 pub mod step;

@@ -2,6 +2,7 @@
 
 use crate::base::ParamError;
 use crate::sim::grid::GridSize;
+use crate::sim::spectrum::{cascade_bands, CascadeSpec, MAX_OCTAVE};
 
 /// Standard gravity (m/s²).
 pub const GRAVITY: f32 = 9.81;
@@ -114,9 +115,9 @@ pub const PEAK_WAVELENGTHS_PER_PATCH: f32 = 2.5;
 pub enum PatchFit {
     /// The patch sizes exactly as given.
     Fixed,
-    /// The coarsest patch is [`PEAK_WAVELENGTHS_PER_PATCH`] peak wavelengths of the wind sea,
-    /// never smaller than `min_coarsest` (m): a gale's 200 m waves fit in it, a breeze keeps
-    /// the default tiling.
+    /// The coarsest patch holds at least [`PEAK_WAVELENGTHS_PER_PATCH`] peak wavelengths of
+    /// the wind sea, `min_coarsest` (m) doubled as often as that needs (at most
+    /// [`MAX_OCTAVE`] times): a gale's 200 m waves fit in it, a breeze keeps the default tiling.
     GrowWithWind {
         /// The coarsest patch for light winds (m).
         min_coarsest: f32,
@@ -214,20 +215,55 @@ impl OceanConfig {
     }
 
     /// Applies [`OceanConfig::patch_fit`] to the current waves: sets the coarsest patch and
-    /// returns true if it changed.
+    /// returns true if it changed. The coarsest patch grows by whole octaves (`min_coarsest`
+    /// times 2, 4, ...; at most [`MAX_OCTAVE`]): every wave a patch holds is then a wave of
+    /// the next octave's grid too, so a sea-state change can hand it over without a pop
+    /// ([`crate::sim::spectrum::modes`]).
     pub fn fit_patches(&mut self) -> bool {
         let PatchFit::GrowWithWind { min_coarsest } = self.patch_fit else {
             return false;
         };
-        let fitted =
-            (PEAK_WAVELENGTHS_PER_PATCH * self.waves.peak_wavelength() as f32).max(min_coarsest);
-        // Whole decimetres, so a float's last bits never reshape the spectrum.
-        let wanted = (fitted * 10.0).ceil() / 10.0;
+        let fitted = PEAK_WAVELENGTHS_PER_PATCH * self.waves.peak_wavelength() as f32;
+        let mut wanted = min_coarsest;
+        for _ in 0..MAX_OCTAVE {
+            if wanted >= fitted {
+                break;
+            }
+            wanted *= 2.0;
+        }
         let changed = self.patch_sizes.first() != Some(&wanted);
         if let Some(first) = self.patch_sizes.first_mut() {
             *first = wanted;
         }
         changed
+    }
+
+    /// Every cascade's [`CascadeSpec`]: patch, band ([`cascade_bands`]) and octave (how often
+    /// a growing coarsest patch has doubled; 0 for every fixed patch).
+    pub fn cascade_specs(&self) -> Vec<CascadeSpec> {
+        let bands = cascade_bands(&self.patch_sizes, self.grid);
+        self.patch_sizes
+            .iter()
+            .zip(bands)
+            .enumerate()
+            .map(|(i, (&patch, band))| {
+                let octave = match self.patch_fit {
+                    PatchFit::GrowWithWind { min_coarsest } if i == 0 => (patch / min_coarsest)
+                        .log2()
+                        .round()
+                        .clamp(0.0, MAX_OCTAVE as f32)
+                        as u32,
+                    _ => 0,
+                };
+                CascadeSpec {
+                    index: i as u32,
+                    patch,
+                    band,
+                    grid: self.grid,
+                    octave,
+                }
+            })
+            .collect()
     }
 
     /// Checks every parameter; the first violation is returned naming it and its valid range.
@@ -285,13 +321,11 @@ impl WaveParams {
         let g = GRAVITY as f64;
         let u = self.wind_speed as f64;
         match self.spectrum {
-            SpectrumKind::Jonswap { gamma, fetch_km } => {
-                crate::sim::spectrum::jonswap::JonswapSea::new(
+            SpectrumKind::Jonswap { fetch_km, .. } => {
+                crate::sim::spectrum::jonswap::peak_wavelength(
                     self.wind_speed,
                     fetch_km as f64 * 1000.0,
-                    gamma,
                 )
-                .peak_wavelength()
             }
             SpectrumKind::Phillips { .. } => {
                 std::f64::consts::TAU / ((2.0f64 / 3.0).sqrt() * g / (u * u))

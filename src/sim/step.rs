@@ -9,9 +9,10 @@ use crate::sim::cascade::{CascadeSim, StepAt};
 use crate::sim::evolve::LoopPhase;
 use crate::sim::fft::Fft2d;
 use crate::sim::grid::{GridSize, SplitField};
-use crate::sim::params::{OceanConfig, WaveParams};
+use crate::sim::params::{OceanConfig, PatchFit, WaveParams};
 use crate::sim::query;
-use crate::sim::spectrum::{cascade_bands, CascadeSpec, PackedSpectrum};
+use crate::sim::retune::Retune;
+use crate::sim::spectrum::PackedSpectrum;
 use crate::sim::surface::{CascadeSurface, FloatCopies, SurfaceParams};
 use crate::sim::whitecaps::{WhitecapInput, WhitecapState, Whitecaps};
 
@@ -130,6 +131,8 @@ pub struct SimCore {
     /// scratch, 1.79×.)
     scratch: Vec<SplitField>,
     whitecaps: WhitecapState,
+    /// The sea-state change under way, if any.
+    retune: Retune,
     focus: [f32; 2],
     last_time: Option<f64>,
     timings: StageTimes,
@@ -150,20 +153,13 @@ impl SimCore {
             );
         }
         let grid = config.grid;
-        let bands = cascade_bands(&config.patch_sizes, grid);
+        let grows = matches!(config.patch_fit, PatchFit::GrowWithWind { .. });
         let cascades = config
-            .patch_sizes
-            .iter()
-            .zip(&bands)
+            .cascade_specs()
+            .into_iter()
             .enumerate()
-            .map(|(i, (&patch, &band))| {
-                let spec = CascadeSpec {
-                    index: i as u32,
-                    patch,
-                    band,
-                    grid,
-                };
-                CascadeSim::new(spec, &config.waves, config.derivatives)
+            .map(|(i, spec)| {
+                CascadeSim::new(spec, &config.waves, config.derivatives, grows && i == 0)
             })
             .collect();
         let fft = Fft2d::new(grid);
@@ -171,6 +167,7 @@ impl SimCore {
         fft.prepare_threads();
         Ok(Self {
             fft,
+            retune: Retune::idle(&config.waves),
             config,
             cascades,
             scratch: (0..scratch_fields(grid))
@@ -198,11 +195,28 @@ impl SimCore {
         self.cascades.iter().map(|c| c.spectrum.expected_variance)
     }
 
-    /// Changes the waves. Re-runs stage 1 only when something that shapes the spectrum changed;
-    /// choppiness, roughness and foam take effect at the next step for free. With
+    /// Changes the waves. A new sea state (anything that shapes the spectrum) is reached
+    /// smoothly: its spectrum built over [`crate::sim::retune::BUILD_STEPS`] steps, then
+    /// blended in over [`crate::sim::retune::BLEND_SECONDS`] of simulation time; a new seed,
+    /// depth or loop period changes the draws or the phases and applies at once. Choppiness,
+    /// roughness and foam take effect at the next step for free. With
     /// [`crate::sim::PatchFit::GrowWithWind`] the coarsest patch follows the new wind (the
-    /// surfaces of the next step carry it to the renderer and the height queries).
+    /// surfaces carry it to the renderer and the height queries).
     pub fn set_waves(&mut self, waves: WaveParams) -> Result<(), ParamError> {
+        self.change_waves(waves, Change::Smooth)
+    }
+
+    /// [`SimCore::set_waves`] at once: the next step shows the new sea state in full.
+    pub fn set_waves_at_once(&mut self, waves: WaveParams) -> Result<(), ParamError> {
+        self.change_waves(waves, Change::AtOnce)
+    }
+
+    /// Whether a sea-state change is still being built or blended.
+    pub fn retuning(&self) -> bool {
+        self.retune.busy()
+    }
+
+    fn change_waves(&mut self, waves: WaveParams, change: Change) -> Result<(), ParamError> {
         waves.validate()?;
         let mut config = OceanConfig {
             waves,
@@ -218,22 +232,17 @@ impl SimCore {
             foam: old.foam,
             ..waves
         } != old;
-        if refit {
-            let bands = cascade_bands(&self.config.patch_sizes, self.config.grid);
-            for ((c, &patch), band) in self
-                .cascades
-                .iter_mut()
-                .zip(&self.config.patch_sizes)
-                .zip(bands)
-            {
-                c.spec.patch = patch;
-                c.spec.band = band;
-            }
+        if !(reshaped || refit) && change == Change::Smooth {
+            return Ok(());
         }
-        if reshaped || refit {
-            for c in &mut self.cascades {
-                c.spectrum = PackedSpectrum::generate(&waves, &c.spec);
+        let targets = self.config.cascade_specs();
+        if change == Change::Smooth && Retune::can_blend(&old, &waves) {
+            self.retune.begin(&waves, &targets, &mut self.cascades);
+        } else {
+            for (c, spec) in self.cascades.iter_mut().zip(targets) {
+                c.retune_at_once(spec, &waves);
             }
+            self.retune = Retune::idle(&waves);
         }
         Ok(())
     }
@@ -254,6 +263,7 @@ impl SimCore {
             _ => 0.0,
         };
         self.last_time = Some(t);
+        self.retune.advance(dt as f64, &mut self.cascades);
         let params = SurfaceParams {
             choppiness: waves.choppiness,
             roughness: waves.roughness,
@@ -261,8 +271,10 @@ impl SimCore {
             dt,
         };
         let phase = LoopPhase::new(t, waves.loop_period);
+        // During a sea-state change, the wind the shown spectrum stands for.
+        let wind = self.retune.shown_wind();
         out.unresolved_slope_variance = crate::sim::spectrum::unresolved_slope_variance(
-            waves.wind_speed,
+            wind,
             self.cascades
                 .iter()
                 .map(|c| c.spectrum.slopes.shown(self.config.derivatives)),
@@ -284,7 +296,7 @@ impl SimCore {
             cascades: &out.cascades,
             focus: self.focus,
             foam: waves.foam,
-            wind_speed: waves.wind_speed,
+            wind_speed: wind,
             dt,
         };
         if self.config.whitecaps {
@@ -315,6 +327,15 @@ impl SimCore {
         }
         t0.elapsed()
     }
+}
+
+/// How [`SimCore`] takes new waves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Change {
+    /// Built in slices and blended in.
+    Smooth,
+    /// In full before the next step.
+    AtOnce,
 }
 
 /// What passes between the caller and the worker.
@@ -558,11 +579,12 @@ fn worker_loop(core: &mut SimCore, shared: &Shared) {
         let focus = slot.focus;
         drop(slot);
         core.set_focus(focus[0], focus[1]);
+        // The step's time includes taking new waves (a sea-state change starts there).
+        let start = std::time::Instant::now();
         if let Some(w) = waves {
             // Already validated by `Simulation::set_waves`.
             let _ = core.set_waves(w);
         }
-        let start = std::time::Instant::now();
         core.step(t, &mut out);
         let took = start.elapsed();
         slot = shared.lock();

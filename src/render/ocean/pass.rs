@@ -68,10 +68,16 @@ impl PassConstants {
             light.sun_illuminance * light.sun_direction.y.max(0.0) + light.sky_illuminance;
         g.diffuse = (horizontal / std::f32::consts::PI).extend(0.0).to_array();
         let mut patch_sizes = [1.0; 4];
-        for (p, c) in patch_sizes.iter_mut().zip(&input.surfaces.cascades) {
+        let mut fade_patches = [1.0; 4];
+        for ((p, f), c) in patch_sizes
+            .iter_mut()
+            .zip(&mut fade_patches)
+            .zip(&input.surfaces.cascades)
+        {
             *p = c.patch;
+            *f = c.fade_patch;
         }
-        let fade = cascade_fades(&self.lod, &patch_sizes[..self.cascades]);
+        let fade = cascade_fades(&self.lod, &fade_patches[..self.cascades]);
         let finest = patch_sizes[self.cascades.clamp(1, 4) - 1];
         for ((inv, offset), &l) in g
             .inv_patch_size

@@ -37,10 +37,9 @@ pub struct JonswapSea {
 impl JonswapSea {
     /// The sea of `wind` (m/s) over `fetch_m` (m) with peak enhancement `gamma`.
     pub fn new(wind: f32, fetch_m: f64, gamma: f32) -> Self {
-        let g = GRAVITY as f64;
         let u = wind as f64;
-        let x = (g * fetch_m / (u * u)).min(SATURATED_FETCH);
-        let effective_fetch = x * u * u / g;
+        let x = dimensionless_fetch(wind, fetch_m);
+        let effective_fetch = x * u * u / GRAVITY as f64;
         let raw = Self {
             alpha: 0.076 * libm::pow(x, -0.22),
             peak: peak_frequency(wind, effective_fetch),
@@ -133,6 +132,22 @@ pub fn density(omega: f64, wind: f32, fetch_m: f64, gamma: f32) -> f64 {
 pub fn peak_frequency(wind: f32, fetch_m: f64) -> f64 {
     let g = GRAVITY as f64;
     22.0 * libm::cbrt(g * g / (wind as f64 * fetch_m))
+}
+
+/// The dimensionless fetch gF/U² of `wind` (m/s) over `fetch_m` (m), at most
+/// [`SATURATED_FETCH`] (a fully developed sea grows no further).
+fn dimensionless_fetch(wind: f32, fetch_m: f64) -> f64 {
+    let u = wind as f64;
+    (GRAVITY as f64 * fetch_m / (u * u)).min(SATURATED_FETCH)
+}
+
+/// Peak wavelength (m, deep water) of the sea `wind` (m/s) raises over `fetch_m` (m): what
+/// [`JonswapSea::peak_wavelength`] gives, without normalizing the spectrum.
+pub fn peak_wavelength(wind: f32, fetch_m: f64) -> f64 {
+    let u = wind as f64;
+    let effective_fetch = dimensionless_fetch(wind, fetch_m) * u * u / GRAVITY as f64;
+    let peak = peak_frequency(wind, effective_fetch);
+    std::f64::consts::TAU * GRAVITY as f64 / (peak * peak)
 }
 
 #[cfg(test)]

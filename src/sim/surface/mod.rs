@@ -47,6 +47,10 @@ pub struct CascadeSurface {
     pub grid: GridSize,
     /// Patch size L (m): texel (c, r) sits at world (c, r)·L/N, repeating every L.
     pub patch: f32,
+    /// The patch whose waves this cascade shows, for the renderer's distance fades: `patch`,
+    /// except while a sea-state change hands the waves of one patch to another
+    /// ([`crate::sim::retune`]), when it moves smoothly from the old patch to the new.
+    pub fade_patch: f32,
     /// (Dx, h, Dz, J) per texel in metres (J dimensionless), row-major: the displaced surface
     /// point of texel x is x + (Dx, h, Dz). Full precision with [`FloatCopies::Keep`]; empty
     /// with [`FloatCopies::Skip`], where `displacement_f16` is the only copy.
@@ -92,6 +96,7 @@ impl CascadeSurface {
         Self {
             grid,
             patch,
+            fade_patch: patch,
             displacement: vec![[0.0; 4]; kept(grid.texels())],
             displacement_f16: vec![[f16::ZERO; 4]; grid.texels()],
             normal_foam: vec![0; chain],
