@@ -56,8 +56,8 @@ impl Lattice {
             .for_each(|(r, ((re, im), harm))| {
                 let row = rows.start + r;
                 for col in 0..n {
-                    let (nx, nz) = spec.lattice_wave(col, row);
-                    let (a, b) = rng::gaussian_at(waves.seed, spec.index, nx, nz);
+                    let (a, b) =
+                        rng::gaussian_pair(waves.seed, spec.index, spec.draw_index(col, row));
                     re[col] = a as f32;
                     im[col] = b as f32;
                     let (kx, kz) = wave_vector(col, row, spec.grid, spec.patch);
