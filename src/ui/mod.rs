@@ -8,6 +8,7 @@
 //! (`tests/tidy.rs`).
 
 pub mod beaufort;
+pub mod panel;
 pub mod settings;
 pub mod store;
 
