@@ -14,6 +14,8 @@ pub const SHADERS: &[(&str, &str, &[&str])] = &[
     ("solid.vert", "solid_mv.vert", &["MULTIVIEW=1"]),
     ("solid.vert", "solid.vert", &[]),
     ("solid.frag", "solid.frag", &[]),
+    ("panel.vert", "panel.vert", &[]),
+    ("panel.frag", "panel.frag", &[]),
 ];
 
 /// The cost variants of `vr-ocean gpu-budget` (`render::budget`): the ocean's fragment shader

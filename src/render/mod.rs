@@ -27,6 +27,7 @@ pub mod context;
 pub mod error;
 pub mod memory;
 pub mod ocean;
+pub mod panel;
 pub mod pipeline;
 pub mod readback;
 pub mod render_pass;

@@ -37,6 +37,11 @@ pub const SOLID_VERT: &[u32] = spirv!("solid.vert");
 /// Solids fragment shader.
 pub const SOLID_FRAG: &[u32] = spirv!("solid.frag");
 
+/// The control panel's vertex shader (egui triangles in points).
+pub const PANEL_VERT: &[u32] = spirv!("panel.vert");
+/// The control panel's fragment shader (vertex colour times texture, premultiplied).
+pub const PANEL_FRAG: &[u32] = spirv!("panel.frag");
+
 /// The optimized cost variants (`shaders/shader_table.rs` `COST_SHADERS`), never run: their
 /// instructions are counted by [`crate::render::budget`].
 pub mod cost {
@@ -57,7 +62,7 @@ pub mod cost {
 }
 
 /// Every module with its name, for validation with `spirv-val`.
-pub const ALL: [(&str, &[u32]); 15] = [
+pub const ALL: [(&str, &[u32]); 17] = [
     ("ocean_mv.vert", OCEAN_VERT_MULTIVIEW),
     ("ocean.vert", OCEAN_VERT),
     ("ocean.frag", OCEAN_FRAG),
@@ -73,4 +78,6 @@ pub const ALL: [(&str, &[u32]); 15] = [
     ("solid_mv.vert", SOLID_VERT_MULTIVIEW),
     ("solid.vert", SOLID_VERT),
     ("solid.frag", SOLID_FRAG),
+    ("panel.vert", PANEL_VERT),
+    ("panel.frag", PANEL_FRAG),
 ];

@@ -165,9 +165,11 @@ impl Panel {
                 events: Vec::new(),
                 ..raw.clone()
             };
-            let _ = self
+            let out = self
                 .ctx
                 .run(settle, |ctx| view::show(ctx, &mut m, &mut r, &mut w));
+            // Its textures (the font atlas) are the image's too.
+            self.textures.append(out.textures_delta);
         }
         let mut edited = *live;
         let mut requests = PanelRequests::default();

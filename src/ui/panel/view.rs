@@ -11,7 +11,7 @@ use crate::ui::Beaufort;
 
 /// The panel's size in points (egui's logical pixels); the image is this times the pixels
 /// per point.
-pub const PANEL_POINTS: [f32; 2] = [440.0, 520.0];
+pub const PANEL_POINTS: [f32; 2] = [440.0, 560.0];
 
 /// Styles the context once: large type and targets for a panel read at arm's length and
 /// aimed at with a hand-held ray.
@@ -31,6 +31,8 @@ pub fn style(ctx: &egui::Context) {
         s.spacing.interact_size.y = 24.0;
         s.visuals = egui::Visuals::dark();
         s.visuals.panel_fill = Color32::from_rgb(18, 28, 38);
+        // Near-white text on the dark fill: contrast for a panel seen through lenses.
+        s.visuals.override_text_color = Some(Color32::from_gray(235));
         s.animation_time = 0.0;
     });
 }
@@ -85,13 +87,14 @@ fn sea(ui: &mut egui::Ui, m: &mut PanelModel, widgets: &mut Widgets) {
         None => "Sea state: beyond force 12".to_string(),
     };
     ui.label(RichText::new(title).strong());
-    ui.horizontal_wrapped(|ui| {
+    ui.horizontal(|ui| {
+        ui.spacing_mut().item_spacing.x = 7.0;
         for n in 0..=MAX_PRESET {
             let Ok(force) = Beaufort::new(n) else {
                 continue;
             };
             let on = now == Some(force);
-            let button = ui.selectable_label(on, format!(" {n} "));
+            let button = ui.add_sized([30.0, 26.0], egui::Button::selectable(on, format!("{n}")));
             widgets.beaufort[n as usize] = corners(button.rect);
             if button.clicked() {
                 m.wind_speed = force.wind_speed();
@@ -165,7 +168,8 @@ fn comfort(ui: &mut egui::Ui, m: &mut PanelModel) {
         slider(&mut c.snap_turn_deg, 15.0..=90.0)
             .text("snap turn")
             .suffix("°")
-            .step_by(15.0),
+            .step_by(15.0)
+            .fixed_decimals(0),
     );
     ui.add(
         slider(&mut c.deck_height_m, 0.5..=10.0)
