@@ -127,14 +127,23 @@ impl PanelPainter {
         let subpass = [vk::SubpassDescription::default()
             .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
             .color_attachments(&colour)];
-        // The pass's writes are made available to whatever uses the image next.
-        let dependency = [vk::SubpassDependency::default()
-            .src_subpass(0)
-            .dst_subpass(vk::SUBPASS_EXTERNAL)
-            .src_stage_mask(vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT)
-            .src_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE)
-            .dst_stage_mask(self.target.then.stages())
-            .dst_access_mask(self.target.then.access())];
+        // The pass waits for the previous image's use (a blit or the compositor reading it)
+        // before clearing it, and makes its writes available to the next use.
+        let dependency = [
+            vk::SubpassDependency::default()
+                .src_subpass(vk::SUBPASS_EXTERNAL)
+                .dst_subpass(0)
+                .src_stage_mask(self.target.then.stages())
+                .dst_stage_mask(vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT)
+                .dst_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE),
+            vk::SubpassDependency::default()
+                .src_subpass(0)
+                .dst_subpass(vk::SUBPASS_EXTERNAL)
+                .src_stage_mask(vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT)
+                .src_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE)
+                .dst_stage_mask(self.target.then.stages())
+                .dst_access_mask(self.target.then.access()),
+        ];
         let info = vk::RenderPassCreateInfo::default()
             .attachments(&attachment)
             .subpasses(&subpass)
