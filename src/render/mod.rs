@@ -10,6 +10,8 @@
 //! - [`memory`]: buffers and images with their own memory.
 //! - [`barrier`]: pipeline barriers written as named access states (`from` → `to`).
 //! - [`pipeline`]: the stereo render pass and the ocean and sky pipelines.
+//! - `program`: the shader pair and pipeline layout every pipeline is made with.
+//! - [`panel`]: the control panel's painter (egui's triangles into the panel's image).
 //! - [`camera`]: reversed-Z projections and the uniform block.
 //! - [`ocean`]: the per-frame renderer.
 //! - [`sky`]: the sky (a scattering atmosphere and a cloud layer) and its prefiltered
@@ -29,6 +31,7 @@ pub mod memory;
 pub mod ocean;
 pub mod panel;
 pub mod pipeline;
+pub(crate) mod program;
 pub mod readback;
 pub mod render_pass;
 pub mod shaders;

@@ -1,12 +1,11 @@
 //! The pipelines built against the stereo render pass (`render_pass`): the ocean and the sky,
 //! and the solids (floating bodies, the deck), with their shared layout and push constants.
 
-use std::ffi::CStr;
-
 use ash::vk;
 
 use super::context::GpuContext;
 use super::error::RenderError;
+use super::program::{pipeline_layout, ShaderPair};
 use super::render_pass::render_pass;
 pub use super::render_pass::{Msaa, PassLayout, StereoMode, DENSITY_MAP_FORMAT, DEPTH_FORMAT};
 use super::shaders;
@@ -159,19 +158,12 @@ impl Pipelines {
         self.set_layout = ctx.create("vkCreateDescriptorSetLayout", || unsafe {
             d.create_descriptor_set_layout(&info, None)
         })?;
-        let push = [vk::PushConstantRange {
-            stage_flags: vk::ShaderStageFlags::VERTEX,
-            offset: 0,
-            size: std::mem::size_of::<Push>() as u32,
-        }];
-        let layouts = [self.set_layout];
-        let info = vk::PipelineLayoutCreateInfo::default()
-            .set_layouts(&layouts)
-            .push_constant_ranges(&push);
-        // SAFETY: the set layout is alive.
-        self.layout = ctx.create("vkCreatePipelineLayout", || unsafe {
-            d.create_pipeline_layout(&info, None)
-        })?;
+        self.layout = pipeline_layout(
+            ctx,
+            self.set_layout,
+            vk::ShaderStageFlags::VERTEX,
+            std::mem::size_of::<Push>(),
+        )?;
         let multiview = self.mode == StereoMode::Multiview;
         let target = Target {
             layout: self.layout,
@@ -317,31 +309,8 @@ fn build(ctx: &GpuContext, program: &Program, target: Target) -> Result<vk::Pipe
         render_pass,
         msaa,
     } = target;
-    let (vert, frag) = (program.vert, program.frag);
-    let d = &ctx.device;
-    let module = |code: &[u32]| {
-        let info = vk::ShaderModuleCreateInfo::default().code(code);
-        // SAFETY: `code` is SPIR-V from `build.rs`, validated there.
-        ctx.create("vkCreateShaderModule", || unsafe {
-            d.create_shader_module(&info, None)
-        })
-    };
-    let vert = module(vert)?;
-    let frag = module(frag).inspect_err(|_| {
-        // SAFETY: the vertex module is unused when the fragment module fails.
-        unsafe { d.destroy_shader_module(vert, None) }
-    })?;
-    const MAIN: &CStr = c"main";
-    let stages = [
-        vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::VERTEX)
-            .module(vert)
-            .name(MAIN),
-        vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::FRAGMENT)
-            .module(frag)
-            .name(MAIN),
-    ];
+    let shaders = ShaderPair::new(ctx, program.vert, program.frag)?;
+    let stages = shaders.stages();
     let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
         .vertex_binding_descriptions(&program.bindings)
         .vertex_attribute_descriptions(&program.attributes);
@@ -379,16 +348,5 @@ fn build(ctx: &GpuContext, program: &Program, target: Target) -> Result<vk::Pipe
         .layout(layout)
         .render_pass(render_pass)
         .subpass(0);
-    // SAFETY: every struct `info` points at lives until the call returns; the layout and the
-    // render pass are alive.
-    let result = ctx.create("vkCreateGraphicsPipelines", || unsafe {
-        d.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
-            .map_err(|(_, e)| e)
-    });
-    // SAFETY: a pipeline no longer needs its modules once created (or creation failed).
-    unsafe {
-        d.destroy_shader_module(vert, None);
-        d.destroy_shader_module(frag, None);
-    }
-    result.map(|p| p[0])
+    shaders.create(ctx, &info)
 }

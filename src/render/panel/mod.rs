@@ -15,6 +15,7 @@ use super::barrier::Access;
 use super::context::GpuContext;
 use super::error::RenderError;
 use super::memory::Buffer;
+use super::program;
 
 /// What the painter draws into.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -162,19 +163,12 @@ impl PanelPainter {
         self.set_layout = ctx.create("vkCreateDescriptorSetLayout", || unsafe {
             d.create_descriptor_set_layout(&info, None)
         })?;
-        let push = [vk::PushConstantRange {
-            stage_flags: vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
-            offset: 0,
-            size: std::mem::size_of::<Push>() as u32,
-        }];
-        let layouts = [self.set_layout];
-        let info = vk::PipelineLayoutCreateInfo::default()
-            .set_layouts(&layouts)
-            .push_constant_ranges(&push);
-        // SAFETY: the set layout is alive.
-        self.layout = ctx.create("vkCreatePipelineLayout", || unsafe {
-            d.create_pipeline_layout(&info, None)
-        })?;
+        self.layout = program::pipeline_layout(
+            ctx,
+            self.set_layout,
+            vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+            std::mem::size_of::<Push>(),
+        )?;
         self.pipeline = pipeline::build(ctx, self.layout, self.render_pass)?;
         let info = vk::SamplerCreateInfo::default()
             .mag_filter(vk::Filter::LINEAR)

@@ -1,11 +1,10 @@
 //! The panel's graphics pipeline.
 
-use std::ffi::CStr;
-
 use ash::vk;
 
 use crate::render::context::GpuContext;
 use crate::render::error::RenderError;
+use crate::render::program::ShaderPair;
 use crate::render::shaders;
 
 /// The panel's pipeline: egui's vertices (position, uv: two floats each; colour: four bytes),
@@ -15,30 +14,8 @@ pub(super) fn build(
     layout: vk::PipelineLayout,
     render_pass: vk::RenderPass,
 ) -> Result<vk::Pipeline, RenderError> {
-    let d = &ctx.device;
-    let module = |code: &[u32]| {
-        let info = vk::ShaderModuleCreateInfo::default().code(code);
-        // SAFETY: `code` is SPIR-V from `build.rs`, validated there.
-        ctx.create("vkCreateShaderModule", || unsafe {
-            d.create_shader_module(&info, None)
-        })
-    };
-    let vert = module(shaders::PANEL_VERT)?;
-    let frag = module(shaders::PANEL_FRAG).inspect_err(|_| {
-        // SAFETY: the vertex module is unused when the fragment module fails.
-        unsafe { d.destroy_shader_module(vert, None) }
-    })?;
-    const MAIN: &CStr = c"main";
-    let stages = [
-        vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::VERTEX)
-            .module(vert)
-            .name(MAIN),
-        vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::FRAGMENT)
-            .module(frag)
-            .name(MAIN),
-    ];
+    let shaders = ShaderPair::new(ctx, shaders::PANEL_VERT, shaders::PANEL_FRAG)?;
+    let stages = shaders.stages();
     let bindings = [vk::VertexInputBindingDescription {
         binding: 0,
         stride: std::mem::size_of::<egui::epaint::Vertex>() as u32,
@@ -93,16 +70,5 @@ pub(super) fn build(
         .layout(layout)
         .render_pass(render_pass)
         .subpass(0);
-    // SAFETY: every struct `info` points at lives until the call returns; the layout and the
-    // render pass are alive.
-    let result = ctx.create("vkCreateGraphicsPipelines", || unsafe {
-        d.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
-            .map_err(|(_, e)| e)
-    });
-    // SAFETY: a pipeline no longer needs its modules once created (or creation failed).
-    unsafe {
-        d.destroy_shader_module(vert, None);
-        d.destroy_shader_module(frag, None);
-    }
-    result.map(|p| p[0])
+    shaders.create(ctx, &info)
 }
