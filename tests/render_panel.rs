@@ -204,7 +204,16 @@ fn the_panel_paints_its_text_and_follows_a_click() {
     let changed = differs(sea_rows.start, sea_rows.end);
     println!("after the click: {changed} pixels changed in the sea rows");
     assert!(changed > 200, "{changed}");
-    assert_eq!(differs(h - 40, h), 0, "the perf line did not change");
+    let perf = panel.widgets().perf;
+    assert!(
+        perf[1] > sea_rows.end as f32,
+        "the perf line is below the sea rows: {perf:?}"
+    );
+    assert_eq!(
+        differs(perf[1] as u32, perf[3] as u32 + 1),
+        0,
+        "the perf line did not change"
+    );
 
     ctx.wait_idle();
     painter.destroy(&ctx);

@@ -24,6 +24,8 @@ pub struct Widgets {
     pub wind: [f32; 4],
     /// The quit button.
     pub quit: [f32; 4],
+    /// The performance line.
+    pub perf: [f32; 4],
 }
 
 /// What one [`Panel::update`] did.
@@ -181,6 +183,7 @@ impl Panel {
             beaufort: widgets.beaufort.map(|r| r.map(|v| v * ppp)),
             wind: widgets.wind.map(|v| v * ppp),
             quit: widgets.quit.map(|v| v * ppp),
+            perf: widgets.perf.map(|v| v * ppp),
         };
         self.primitives = self.ctx.tessellate(out.shapes, out.pixels_per_point);
         self.textures.append(out.textures_delta);

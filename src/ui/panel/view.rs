@@ -76,7 +76,7 @@ pub fn show(
         ui.separator();
         comfort(ui, m);
         ui.separator();
-        perf(ui, m);
+        perf(ui, m, widgets);
     });
 }
 
@@ -179,15 +179,16 @@ fn comfort(ui: &mut egui::Ui, m: &mut PanelModel) {
     );
 }
 
-fn perf(ui: &mut egui::Ui, m: &PanelModel) {
+fn perf(ui: &mut egui::Ui, m: &PanelModel, widgets: &mut Widgets) {
     let p = m.perf.shown();
     let gpu = p.gpu_ms.map_or("-".to_string(), |g| format!("{g:.1} ms"));
     let level = p
         .level
         .map_or(String::new(), |l| format!(" | governor: {l}"));
-    ui.label(
+    let line = ui.label(
         RichText::new(format!("frame {:.1} ms | GPU {gpu}{level}", p.frame_ms))
             .monospace()
             .color(Color32::from_gray(190)),
     );
+    widgets.perf = corners(line.rect);
 }
