@@ -179,6 +179,62 @@ fn window_under_xvfb_shows_both_eyes_without_validation_errors() {
     let _ = std::fs::remove_file(&path);
 }
 
+/// Issue 31: `--panel open` shows the control panel over the view, centred at one window pixel
+/// per point (440×560), its text sharp, without validation errors. The image is
+/// `docs/panel/window.png` in the README when made at 1000x600.
+#[test]
+fn window_shows_the_control_panel_over_the_view() {
+    if !common::has_xvfb_run() {
+        eprintln!("skipped: xvfb-run is not installed (apt install xvfb; `cargo xtask test` does)");
+        return;
+    }
+    let shot = common::scratch_path("window-panel.png");
+    let _ = std::fs::remove_file(&shot);
+    let out = common::xvfb_window_sized(
+        &common::scratch_path("window-panel-config"),
+        "1000x600",
+        &[
+            "--validation",
+            "--frames",
+            "12",
+            "--wind",
+            "9",
+            "--panel",
+            "open",
+            "--screenshot",
+            shot.to_str().unwrap(),
+        ],
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "stdout:\n{stdout}\nstderr:\n{stderr}");
+    assert!(!stderr.contains("Vulkan validation"), "{stderr}");
+    let img = image::open(&shot).expect("screenshot").to_rgba8();
+    let (w, h) = img.dimensions();
+    assert_eq!((w, h), (1000, 600));
+    let px = img.as_raw();
+    // The panel's fill (egui's dark panel colour) below its last line, at its centred place
+    // (280, 20)-(720, 580); outside it, the view.
+    let fill = [18.0, 28.0, 38.0];
+    let near = |a: [f32; 3], b: [f32; 3]| a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 3.0);
+    let inside = mean(px, w, 690, 550, 16);
+    assert!(near(inside, fill), "panel fill {inside:?}");
+    for (x, y) in [(100, 100), (900, 100), (100, 500), (262, 300), (722, 300)] {
+        let outside = mean(px, w, x, y, 8);
+        assert!(!near(outside, fill), "view at ({x}, {y}): {outside:?}");
+    }
+    // Text: the heading row of the panel holds bright glyph pixels.
+    let bright = (30..52)
+        .flat_map(|y| (288..400).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            let i = 4 * (y * w + x) as usize;
+            px[i] as u32 + px[i + 1] as u32 + px[i + 2] as u32 > 3 * 170
+        })
+        .count();
+    assert!(bright > 150, "{bright} bright heading pixels");
+    let _ = std::fs::remove_file(&shot);
+}
+
 /// Headless frames with tweaks injected, as the window's keys would send them.
 struct Tweaking {
     inner: HeadlessXr,

@@ -71,6 +71,8 @@ pub fn run_options(
             sink: SoundSink::Device,
             ..SoundOptions::default()
         },
+        // Closed until the menu button opens it.
+        panel_open: false,
     })
 }
 

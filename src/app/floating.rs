@@ -29,6 +29,10 @@ use crate::xr::FrameState;
 /// Speed of a crate thrown with the window's throw key (m/s): an easy underarm throw.
 pub const THROW_SPEED: f32 = 9.0;
 
+/// Speed of a crate the panel's spawn button drops in front of the user (m/s): a gentle
+/// toss that lands a few metres out.
+pub const DROP_SPEED: f32 = 3.0;
+
 /// A body farther than this from the viewer (horizontally, m) has drifted out of the scene
 /// and is put back on the water near the viewer: the sea's drift and throws would otherwise
 /// empty it over a long session.
@@ -234,6 +238,28 @@ impl Afloat {
         let head = (frame.views[0].position + frame.views[1].position) * 0.5;
         let forward = frame.views[0].orientation * Vec3::NEG_Z;
         world.throw_from(head, forward, THROW_SPEED).map(|_| ())
+    }
+
+    /// Drops a crate in front of the head of `frame`, tossed gently along the level view (the
+    /// panel's spawn button). Before the first frame nothing happens.
+    pub fn drop_in_front(&mut self, frame: &FrameState) -> Result<(), PhysicsError> {
+        let Some(world) = self.world.as_mut() else {
+            return Ok(());
+        };
+        let head = (frame.views[0].position + frame.views[1].position) * 0.5;
+        let view = frame.views[0].orientation * Vec3::NEG_Z;
+        let level = Vec3::new(view.x, 0.0, view.z)
+            .try_normalize()
+            .unwrap_or(Vec3::NEG_Z);
+        world.throw_from(head, level, DROP_SPEED).map(|_| ())
+    }
+
+    /// Puts the bodies back as the run started them: the world is made again around the
+    /// viewer on the next frame (the panel's reset button; allocates, a user's action).
+    pub fn reset(&mut self) {
+        self.world = None;
+        self.hands = [Hand::new(); 2];
+        self.wet = [false; 2];
     }
 
     /// What hit the water during this frame's steps (bodies, then hands going in), with

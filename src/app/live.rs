@@ -130,6 +130,17 @@ impl RecentFrames {
         self.len = (self.len + 1).min(RECENT);
     }
 
+    /// The medians of the recent frames' total time and GPU pass time (ms; the GPU's `None`
+    /// when no frame was timed), for the panel's performance line. Allocates nothing.
+    pub fn medians(&self) -> (f64, Option<f64>) {
+        let n = self.len;
+        let gpu = median(&self.gpu[..n]);
+        (
+            median(&self.frame[..n]),
+            (n > 0 && !gpu.is_nan()).then_some(gpu),
+        )
+    }
+
     /// Writes a one-line summary (p50 of each timing) into `out`, replacing its contents;
     /// allocates nothing once `out` has room for about 200 bytes.
     /// With the GPU-time governor on, `governor` is its level, shown after the preset.

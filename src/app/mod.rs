@@ -5,6 +5,7 @@
 pub mod floating;
 pub mod govern;
 pub mod live;
+mod panel;
 pub mod report;
 pub mod sound;
 pub mod timing;
@@ -106,6 +107,8 @@ pub struct RunOptions {
     pub governor: GovernorOptions,
     /// The sound (off by default).
     pub audio: SoundOptions,
+    /// Start with the control panel open (where the backend shows one).
+    pub panel_open: bool,
 }
 
 /// One captured frame: both eyes as tightly packed sRGB RGBA8 rows.
@@ -175,6 +178,10 @@ struct Frames<'a> {
     governed: Option<govern::Governed>,
     /// The sound, when on.
     ears: Option<sound::Ears>,
+    /// The control panel, where the backend shows one.
+    panel: Option<panel::PanelHost>,
+    /// The user asked to quit (the panel): the session ends before the next frame.
+    quit: bool,
     /// Whether the first simulation step was started.
     started: bool,
     stats: RunStats,
@@ -212,6 +219,7 @@ impl<'a> Frames<'a> {
         let sim = Simulation::new(opts.ocean.clone(), opts.threads)?;
         let afloat = opts.floating.as_ref().map(Afloat::new).transpose()?;
         let ears = sound::Ears::new(&opts.audio)?;
+        let panel = panel::PanelHost::new(&*xr, opts.panel_open);
         // The renderer draws the interaction layer the floating bodies will make.
         let mut settings = opts.renderer;
         settings.interaction = opts
@@ -251,6 +259,8 @@ impl<'a> Frames<'a> {
             afloat,
             governed,
             ears,
+            panel,
+            quit: false,
             started: false,
             stats: RunStats {
                 times: FrameTimes::with_capacity(16_384),
@@ -269,6 +279,9 @@ impl<'a> Frames<'a> {
     /// and end it. False once the backend ended the session.
     fn step(&mut self) -> Result<bool, AppError> {
         let start = Instant::now();
+        if self.quit {
+            return Ok(false);
+        }
         let Some(frame) = self.xr.begin_frame()? else {
             return Ok(false);
         };
@@ -294,6 +307,7 @@ impl<'a> Frames<'a> {
                 t => live::apply_wave_tweak(&mut self.sim, t),
             }
         }
+        self.quit = !self.drive_panel(&frame)?;
         // The bodies ride the surfaces shown this frame.
         if let Some(afloat) = self.afloat.as_mut() {
             let ticks = afloat.advance(&frame, self.sim.surfaces())?;
@@ -426,13 +440,15 @@ impl<'a> Frames<'a> {
         &'a mut dyn FrameLoop,
         Result<Option<SoundReport>, AppError>,
     ) {
+        // A change the panel had not applied yet is the user's last word too.
+        let (waves, sun) = self.panel.as_ref().map_or((None, None), |p| p.pending());
         let chosen = live::Chosen {
-            waves: self.sim.config().waves,
+            waves: waves.unwrap_or(self.sim.config().waves),
             preset: self
                 .governed
                 .as_ref()
                 .map_or(self.lod.settings().preset(), |g| g.preset),
-            sun: self.renderer.settings().sun,
+            sun: sun.unwrap_or(self.renderer.settings().sun),
         };
         let gpu = self.xr.gpu();
         gpu.wait_idle();

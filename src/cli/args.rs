@@ -319,6 +319,7 @@ impl ViewArgs {
             floating: None,
             governor: self.governor(false)?,
             audio: self.sound(false)?,
+            panel_open: false,
         })
     }
 

@@ -91,6 +91,18 @@ pub struct WindowArgs {
     /// Save the window's last frame as PNG (needs --frames).
     #[arg(long, requires = "frames")]
     pub screenshot: Option<PathBuf>,
+    /// The control panel at start: open or closed (Tab opens and closes it).
+    #[arg(long, value_enum, default_value_t = PanelArg::Closed)]
+    pub panel: PanelArg,
+}
+
+/// Whether the control panel starts open.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum PanelArg {
+    /// Shown from the first frame (tests, screenshots).
+    Open,
+    /// Hidden until the user opens it.
+    Closed,
 }
 
 #[derive(Args)]
@@ -113,6 +125,10 @@ pub struct XrArgs {
     /// Quest 2, 90 on Quest Pro/3/3S, 120 elsewhere].
     #[arg(long, allow_negative_numbers = true)]
     pub max_refresh_rate: Option<f32>,
+    /// The control panel at start: open or closed (the left controller's menu button opens
+    /// and closes it).
+    #[arg(long, value_enum, default_value_t = PanelArg::Closed)]
+    pub panel: PanelArg,
     /// CPU performance level (with XR_EXT_performance_settings).
     #[arg(long, value_enum, default_value_t = PerfArg::SustainedHigh)]
     pub cpu_level: PerfArg,
@@ -281,6 +297,7 @@ pub fn window_cmd(mut a: WindowArgs, fallback: bool) -> CmdResult {
     let bodies = a.view.bodies()?;
     let mut opts = a.view.run_options(Vec::new(), warmup)?;
     opts.audio = a.view.sound(true)?;
+    opts.panel_open = a.panel == PanelArg::Open;
     opts.floating = Some(FloatOptions {
         bodies,
         deck: DeckPlacement::UnderViewer,
@@ -360,6 +377,7 @@ pub fn xr_cmd(mut a: XrArgs) -> CmdResult {
     let bodies = a.view.bodies()?;
     let mut opts = a.view.run_options(Vec::new(), 10)?;
     opts.audio = a.view.sound(true)?;
+    opts.panel_open = a.panel == PanelArg::Open;
     opts.floating = Some(FloatOptions {
         bodies,
         deck: DeckPlacement::At(a.deck_height),

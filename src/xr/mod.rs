@@ -19,6 +19,7 @@ use crate::base::EyeView;
 use crate::lod::QualityPreset;
 use crate::physics::HandInput;
 use crate::render::{GpuContext, RenderError, TargetImages};
+use crate::ui::panel::{Comfort, Panel, PointerEvent};
 
 /// A live change asked for by the user (window keys); the app applies it at the frame start.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -50,6 +51,9 @@ pub enum Tweak {
 /// Most tweaks one frame carries; later ones wait for the next frame.
 pub const MAX_TWEAKS: usize = 4;
 
+/// Most panel pointer events one frame carries (moves in a row are merged into the last).
+pub const MAX_POINTER_EVENTS: usize = 8;
+
 /// What a frame is rendered for.
 #[derive(Clone, Copy, Debug)]
 pub struct FrameState {
@@ -68,6 +72,10 @@ pub struct FrameState {
     /// Left and right hands (controller grip pose, squeeze, velocities) where tracked: they
     /// grab and throw the floating bodies. `None` without controllers (desktop backends).
     pub hands: [Option<HandInput>; 2],
+    /// What the pointer did to the control panel since the last frame, first to last (the
+    /// window's mouse and Tab key, a controller's aim ray, trigger and menu button), in panel
+    /// pixels. `None` slots are empty.
+    pub pointer: [Option<PointerEvent>; MAX_POINTER_EVENTS],
 }
 
 /// The images a frame renders into: indices into [`TargetImages::images`] and
@@ -161,7 +169,28 @@ pub trait FrameLoop {
     /// the refresh governor leaves GPU time to it). Backends without a place ignore it.
     fn report_governor(&mut self, _state: gpu_governor::GovernorState) {}
 
-    /// Plays a short haptic tick on hand `hand` (0 left, 1 right): a body was grabbed.
-    /// Backends without controllers ignore it.
+    /// Plays a short haptic tick on hand `hand` (0 left, 1 right): a body was grabbed, a
+    /// press landed on the panel. Backends without controllers ignore it.
     fn haptic_tick(&mut self, _hand: usize) {}
+
+    /// Image pixels per egui point of the control panel this backend shows ([`Panel::new`]);
+    /// `None` when it shows none (headless).
+    fn panel_pixels_per_point(&self) -> Option<f32> {
+        None
+    }
+
+    /// Shows `panel` with this frame (called every frame after the app updated it, before
+    /// [`FrameLoop::end_frame`]): a closed panel hides it; an open one is repainted only when
+    /// its [`Panel::generation`] moved since the last paint.
+    fn show_panel(&mut self, _panel: &mut Panel) -> Result<(), XrError> {
+        Ok(())
+    }
+
+    /// A press landed on the panel: a haptic tick on the hand that aims at it. Backends
+    /// without controllers ignore it.
+    fn panel_haptic(&mut self) {}
+
+    /// The user's comfort options changed (the panel): snap-turn angle, smooth turning, deck
+    /// height, seated. Backends without locomotion ignore them.
+    fn set_comfort(&mut self, _comfort: Comfort) {}
 }

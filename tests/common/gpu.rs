@@ -64,6 +64,7 @@ pub fn small_options(stereo: StereoMode, capture: Vec<u64>) -> RunOptions {
         floating: None,
         governor: Default::default(),
         audio: Default::default(),
+        panel_open: false,
     }
 }
 

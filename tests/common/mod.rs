@@ -133,13 +133,17 @@ pub fn has_xvfb_run() -> bool {
 /// user's).
 #[allow(dead_code)]
 pub fn xvfb_window(config: &Path, args: &[&str]) -> std::process::Output {
+    xvfb_window_sized(config, "320x160", args)
+}
+
+/// [`xvfb_window`] with a window of `size` (WIDTHxHEIGHT, at most 1024x768).
+#[allow(dead_code)]
+pub fn xvfb_window_sized(config: &Path, size: &str, args: &[&str]) -> std::process::Output {
     Command::new("xvfb-run")
         .env("XDG_CONFIG_HOME", config)
         .args(["-a", "-s", "-screen 0 1024x768x24"])
         .arg(env!("CARGO_BIN_EXE_vr-ocean"))
-        .args([
-            "window", "--size", "320x160", "--grid", "64", "--preset", "low",
-        ])
+        .args(["window", "--size", size, "--grid", "64", "--preset", "low"])
         .args(["--threads", "1"])
         .args(args)
         .env("RUST_BACKTRACE", "0")

@@ -22,6 +22,12 @@ pub struct Widgets {
     pub beaufort: [[f32; 4]; 11],
     /// The wind slider's track.
     pub wind: [f32; 4],
+    /// The sun height slider's track.
+    pub sun: [f32; 4],
+    /// The bodies' spawn button.
+    pub spawn: [f32; 4],
+    /// The reset button.
+    pub reset: [f32; 4],
     /// The quit button.
     pub quit: [f32; 4],
     /// The performance line.
@@ -55,6 +61,8 @@ pub struct Panel {
     primitives: Vec<egui::ClippedPrimitive>,
     textures: egui::TexturesDelta,
     widgets: Widgets,
+    /// Images drawn so far ([`Panel::generation`]).
+    generation: u64,
 }
 
 impl Panel {
@@ -71,7 +79,14 @@ impl Panel {
             primitives: Vec::new(),
             textures: egui::TexturesDelta::default(),
             widgets: Widgets::default(),
+            generation: 0,
         }
+    }
+
+    /// How many images the UI has drawn: a painter repaints when this moved since its last
+    /// paint (the panel changed), and only then.
+    pub fn generation(&self) -> u64 {
+        self.generation
     }
 
     /// The image's size in pixels.
@@ -102,6 +117,12 @@ impl Panel {
     /// Takes a pointer event (positions in image pixels).
     pub fn handle(&mut self, event: PointerEvent) {
         self.pointer.handle(event);
+    }
+
+    /// The model the last image shows (its performance line rounded as shown), if one was
+    /// drawn since the panel last opened.
+    pub fn shown(&self) -> Option<&PanelModel> {
+        self.drawn.as_ref()
     }
 
     /// Where the main widgets were last laid out (image pixels).
@@ -182,6 +203,9 @@ impl Panel {
         self.widgets = Widgets {
             beaufort: widgets.beaufort.map(|r| r.map(|v| v * ppp)),
             wind: widgets.wind.map(|v| v * ppp),
+            sun: widgets.sun.map(|v| v * ppp),
+            spawn: widgets.spawn.map(|v| v * ppp),
+            reset: widgets.reset.map(|v| v * ppp),
             quit: widgets.quit.map(|v| v * ppp),
             perf: widgets.perf.map(|v| v * ppp),
         };
@@ -197,6 +221,7 @@ impl Panel {
             perf: edited.perf.shown(),
             ..edited
         });
+        self.generation += 1;
         update.redrawn = true;
         update.edited = (edited != *live).then_some(edited);
         update.requests = requests;

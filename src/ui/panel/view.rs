@@ -70,9 +70,9 @@ pub fn show(
         ui.separator();
         sea(ui, m, widgets);
         ui.separator();
-        sky(ui, m);
+        sky(ui, m, widgets);
         ui.separator();
-        bodies(ui, m, requests);
+        bodies(ui, m, requests, widgets);
         ui.separator();
         comfort(ui, m);
         ui.separator();
@@ -116,14 +116,15 @@ fn sea(ui: &mut egui::Ui, m: &mut PanelModel, widgets: &mut Widgets) {
     );
 }
 
-fn sky(ui: &mut egui::Ui, m: &mut PanelModel) {
+fn sky(ui: &mut egui::Ui, m: &mut PanelModel, widgets: &mut Widgets) {
     ui.label(RichText::new("Sky").strong());
-    ui.add(
+    let sun = ui.add(
         slider(&mut m.sun_elevation_deg, -10.0..=90.0)
             .text("sun height")
             .suffix("°")
             .fixed_decimals(0),
     );
+    widgets.sun = corners(sun.rect);
     ui.add(
         slider(&mut m.sun_azimuth_deg, 0.0..=359.0)
             .text("sun bearing")
@@ -144,13 +145,17 @@ fn sky(ui: &mut egui::Ui, m: &mut PanelModel) {
     }
 }
 
-fn bodies(ui: &mut egui::Ui, m: &PanelModel, requests: &mut PanelRequests) {
+fn bodies(ui: &mut egui::Ui, m: &PanelModel, requests: &mut PanelRequests, widgets: &mut Widgets) {
     ui.horizontal(|ui| {
         ui.label(RichText::new(format!("Bodies: {}", m.bodies)).strong());
-        if ui.button("Spawn in front").clicked() {
+        let spawn = ui.button("Spawn in front");
+        widgets.spawn = corners(spawn.rect);
+        if spawn.clicked() {
             requests.spawn_body = true;
         }
-        if ui.button("Reset").clicked() {
+        let reset = ui.button("Reset");
+        widgets.reset = corners(reset.rect);
+        if reset.clicked() {
             requests.reset_bodies = true;
         }
     });

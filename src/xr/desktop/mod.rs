@@ -291,6 +291,7 @@ impl FrameLoop for HeadlessXr {
             should_render: !settling,
             tweaks,
             hands: [None; 2],
+            pointer: [None; crate::xr::MAX_POINTER_EVENTS],
         };
         self.frame += 1;
         Ok(Some(state))

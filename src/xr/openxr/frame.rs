@@ -119,6 +119,7 @@ impl OpenXr {
             should_render,
             tweaks,
             hands,
+            pointer: [None; crate::xr::MAX_POINTER_EVENTS],
         };
         self.index += 1;
         Ok(frame)

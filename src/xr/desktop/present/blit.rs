@@ -4,6 +4,7 @@
 
 use ash::vk;
 
+use super::overlay::OverlayBlit;
 use crate::render::barrier::{self, Access, GlobalBarrier, ImageBarrier};
 
 /// What one frame's blit reads and writes.
@@ -21,6 +22,8 @@ pub(super) struct Blit<'a> {
     pub window: vk::Extent2D,
     /// Blit filter (linear when the format allows).
     pub filter: vk::Filter,
+    /// The control panel's image to blit over the eyes, when shown.
+    pub overlay: Option<OverlayBlit>,
 }
 
 impl Blit<'_> {
@@ -44,6 +47,25 @@ impl Blit<'_> {
             None,
         );
         self.clear_and_blit();
+        if let Some(o) = &self.overlay {
+            let eyes_done =
+                ImageBarrier::colour(target, 1, Access::TransferWrite, Access::TransferWrite);
+            barrier::record(d, cmd, [eyes_done], None);
+            // SAFETY: `cmd` is recording; the panel image is in TRANSFER_SRC_OPTIMAL (its
+            // painter's pass, submitted earlier on this queue, left it so) and the window image
+            // in TRANSFER_DST_OPTIMAL; the placement lies inside the window.
+            unsafe {
+                d.cmd_blit_image(
+                    cmd,
+                    o.image,
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    target,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    &[o.region()],
+                    self.filter,
+                )
+            };
+        }
         let window_access = if readback.is_some() {
             Access::TransferRead
         } else {

@@ -3,6 +3,8 @@
 //! array image to the left half and layer 1 to the right half of the acquired window image,
 //! keeping the eyes' aspect ratio (black bars around).
 //!
+//! The control panel, when open, is blitted over the eyes (`overlay`).
+//!
 //! Two frames may be in flight: each has its own command buffer, acquire semaphore and fence,
 //! and each window image its own "blit done" semaphore (a present may wait on it after the
 //! frame slot is reused). Nothing waits for the whole device except swapchain re-creation.
@@ -10,11 +12,15 @@
 use ash::vk;
 
 mod blit;
+mod overlay;
 mod swapchain;
+
+pub use overlay::OverlayPlacement;
 
 use super::COLOUR_FORMAT;
 use crate::render::memory::Buffer;
 use crate::render::{commands, GpuContext, RenderError};
+use crate::ui::panel::Panel;
 
 /// Frames the blit may run ahead of the GPU.
 const FRAMES_IN_FLIGHT: usize = 2;
@@ -54,6 +60,10 @@ pub struct Presenter {
     filter: vk::Filter,
     can_capture: bool,
     capture: Option<Buffer>,
+    /// The control panel's image, once it was first shown.
+    overlay: Option<overlay::Overlay>,
+    /// Where the last presented frame showed the panel.
+    placement: Option<OverlayPlacement>,
 }
 
 impl Presenter {
@@ -83,6 +93,8 @@ impl Presenter {
             filter: vk::Filter::NEAREST,
             can_capture: false,
             capture: None,
+            overlay: None,
+            placement: None,
         };
         match this.init(ctx, size) {
             Ok(()) => Ok(this),
@@ -138,6 +150,23 @@ impl Presenter {
         Ok(())
     }
 
+    /// Paints `panel` into the overlay's image when it drew a new one (see
+    /// [`Presenter::present`]'s `panel`).
+    pub fn paint_panel(&mut self, ctx: &GpuContext, panel: &mut Panel) -> Result<(), RenderError> {
+        if self.overlay.is_none() {
+            self.overlay = Some(overlay::Overlay::new(ctx)?);
+        }
+        match self.overlay.as_mut() {
+            Some(o) => o.paint(ctx, panel),
+            None => Ok(()),
+        }
+    }
+
+    /// Where the last presented frame showed the panel (window pixels), if it did.
+    pub fn panel_placement(&self) -> Option<OverlayPlacement> {
+        self.placement
+    }
+
     /// Marks the swapchain for re-creation before the next frame (the window was resized).
     pub fn invalidate(&mut self) {
         self.stale = true;
@@ -145,14 +174,17 @@ impl Presenter {
 
     /// Blits both layers of `eyes` (in `COLOR_ATTACHMENT_OPTIMAL`, rendered by earlier
     /// submissions on the same queue, left so) of size `eye` per layer into the next window
-    /// image and presents it. `window` is the window's current inner size. With `capture`, the
-    /// shown image is also copied to the CPU (waits for it; not for the steady state).
+    /// image and presents it. `window` is the window's current inner size; with `panel`, the
+    /// last painted panel goes over the eyes, centred ([`Presenter::panel_placement`]). With
+    /// `capture`, the shown image is also copied to the CPU (waits for it; not for the steady
+    /// state).
     pub fn present(
         &mut self,
         ctx: &GpuContext,
         eyes: vk::Image,
         eye: vk::Extent2D,
         window: vk::Extent2D,
+        panel: bool,
         capture: bool,
     ) -> Result<Option<Screenshot>, RenderError> {
         if self.stale && !self.recreate(ctx, window)? {
@@ -213,6 +245,12 @@ impl Presenter {
             )
             .map_err(RenderError::vk("vkBeginCommandBuffer"))?;
         }
+        let overlay = self
+            .overlay
+            .as_ref()
+            .filter(|_| panel)
+            .and_then(|o| o.blit(self.extent));
+        self.placement = overlay.map(|o| o.placement);
         let readback = if capture {
             self.capture.as_ref().map(|b| b.raw)
         } else {
@@ -226,6 +264,7 @@ impl Presenter {
             target,
             window: self.extent,
             filter: self.filter,
+            overlay,
         }
         .record(readback);
         // SAFETY: `f.cmd` is recording.
@@ -306,6 +345,9 @@ impl Presenter {
         }
         if let Some(mut b) = self.capture.take() {
             b.destroy(ctx);
+        }
+        if let Some(mut o) = self.overlay.take() {
+            o.destroy(ctx);
         }
         self.images.clear();
     }

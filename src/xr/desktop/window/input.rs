@@ -7,6 +7,7 @@ use winit::event_loop::ActiveEventLoop;
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
 
+use super::panel::PanelMouse;
 use crate::lod::QualityPreset;
 use crate::xr::desktop::controls::{FlyControls, MoveKey};
 use crate::xr::{Tweak, MAX_TWEAKS};
@@ -20,6 +21,7 @@ pub const KEYS_HELP: &str = concat!(
     "  7/8      sun lower/higher 5 deg  9/0  sun azimuth -/+ 15 deg\n",
     "  [/]      sea state: Beaufort force -/+ 1 (0 calm to 10 storm)\n",
     "  Space    throw a crate along the view\n",
+    "  Tab      control panel (the mouse drives it)\n",
     "  Esc      quit (or close the window)",
 );
 
@@ -87,6 +89,8 @@ pub(super) struct Input {
     pub resized: bool,
     pub turning: bool,
     pub cursor: Option<(f64, f64)>,
+    /// The mouse and Tab as the control panel's pointer.
+    pub panel: PanelMouse,
 }
 
 impl Input {
@@ -142,6 +146,10 @@ impl ApplicationHandler for Input {
                 }
                 if code == KeyCode::Escape {
                     self.quit = true;
+                } else if code == KeyCode::Tab {
+                    if !event.repeat {
+                        self.panel.menu();
+                    }
                 } else if let Some(t) = tweak_for_key(code) {
                     // Holding a wave key repeats it; a preset switch or a throw happens once.
                     if !(event.repeat
@@ -157,8 +165,13 @@ impl ApplicationHandler for Input {
                     }
                 }
             }
-            WindowEvent::MouseInput { state, .. } => {
-                self.turning = state == ElementState::Pressed;
+            WindowEvent::MouseInput { state, button, .. } => {
+                let down = state == ElementState::Pressed;
+                let panel =
+                    button == winit::event::MouseButton::Left && self.panel.left_button(down);
+                if !panel {
+                    self.turning = down;
+                }
             }
             WindowEvent::CursorMoved { position, .. } => {
                 let now = (position.x, position.y);
@@ -166,8 +179,12 @@ impl ApplicationHandler for Input {
                     self.controls.look(now.0 - prev.0, now.1 - prev.1);
                 }
                 self.cursor = Some(now);
+                self.panel.moved(Some([now.0 as f32, now.1 as f32]));
             }
-            WindowEvent::CursorLeft { .. } => self.cursor = None,
+            WindowEvent::CursorLeft { .. } => {
+                self.cursor = None;
+                self.panel.moved(None);
+            }
             _ => {}
         }
     }
@@ -202,6 +219,7 @@ mod tests {
             resized: false,
             turning: false,
             cursor: None,
+            panel: PanelMouse::default(),
         };
         for i in 0..(PENDING_TWEAKS + 2) {
             input.push_tweak(Tweak::WindSpeed(i as f32));

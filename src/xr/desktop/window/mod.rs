@@ -8,10 +8,12 @@
 //!
 //! `input`: keys ([`KEYS_HELP`]): WASD move, Q/E down/up, Shift 5× faster, mouse look while a button is
 //! held; 1/2 wind speed −/+1 m/s, 3/4 wind direction −/+15°, 5/6 choppiness −/+0.1, F1-F4
-//! quality preset low/medium/high/ultra; Esc or closing the window quits. `size`: the
-//! window size the user gives.
+//! quality preset low/medium/high/ultra; Esc or closing the window quits. `panel`: Tab opens
+//! the control panel over the view and the mouse drives it. `size`: the window size the
+//! user gives.
 
 mod input;
+mod panel;
 mod size;
 
 pub use input::{move_key, tweak_for_key, KEYS_HELP};
@@ -31,10 +33,15 @@ use super::controls::FlyControls;
 use super::present::{Presenter, Screenshot};
 use super::{eye_views, CameraPath, DesktopSwapchain};
 use crate::render::{ContextOptions, GpuContext, RenderError, TargetImages};
+use crate::ui::panel::Panel;
 use crate::xr::{Acquired, FrameLoop, FrameState, XrError};
 
 /// Display period assumed when the monitor does not report its refresh rate (60 Hz).
 const DEFAULT_PERIOD: f64 = 1.0 / 60.0;
+
+/// The control panel's image pixels per egui point in the window: 1, so its 440×560-point
+/// layout is as many window pixels and its text as sharp as the desktop's own.
+const PANEL_PIXELS_PER_POINT: f32 = 1.0;
 
 /// How the window run is set up.
 pub struct WindowOptions {
@@ -137,6 +144,8 @@ pub struct WindowXr {
     screenshot: Option<Screenshot>,
     acquired: Option<u32>,
     title: String,
+    /// Whether the control panel is open (shown over the view).
+    panel_shown: bool,
 }
 
 impl WindowXr {
@@ -175,6 +184,7 @@ impl WindowXr {
             resized: false,
             turning: false,
             cursor: None,
+            panel: Default::default(),
         };
         // The window is created in `resumed`, which the platforms send at start-up.
         let deadline = Instant::now() + Duration::from_secs(5);
@@ -272,6 +282,7 @@ impl WindowXr {
             screenshot: None,
             acquired: None,
             title: String::with_capacity(256),
+            panel_shown: false,
         })
     }
 
@@ -352,6 +363,7 @@ impl FrameLoop for WindowXr {
             should_render: extent.width >= 2 && extent.height > 0,
             tweaks: self.input.take_tweaks(),
             hands: [None; 2],
+            pointer: self.input.panel.take(),
         };
         self.frame += 1;
         Ok(Some(state))
@@ -384,10 +396,28 @@ impl FrameLoop for WindowXr {
             self.swapchain.image(image),
             self.swapchain.extent(),
             window,
+            self.panel_shown,
             self.screenshot_wanted && last,
         )?;
         if shot.is_some() {
             self.screenshot = shot;
+        }
+        let shown = self
+            .presenter
+            .panel_placement()
+            .filter(|_| self.panel_shown);
+        self.input.panel.shown(shown);
+        Ok(())
+    }
+
+    fn panel_pixels_per_point(&self) -> Option<f32> {
+        Some(PANEL_PIXELS_PER_POINT)
+    }
+
+    fn show_panel(&mut self, panel: &mut Panel) -> Result<(), XrError> {
+        self.panel_shown = panel.is_open();
+        if self.panel_shown {
+            self.presenter.paint_panel(&self.ctx, panel)?;
         }
         Ok(())
     }

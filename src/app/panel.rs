@@ -1,0 +1,188 @@
+//! The control panel in the frame loop (issue 31): the one [`Panel`] both front ends show.
+//! Each frame the backend's pointer events go in, the panel runs (only when something it
+//! shows changed), and what the user changed is applied: the wind through the simulation's
+//! smooth sea-state change, the sun and clouds through the renderer's sky, comfort through
+//! the backend, the buttons (spawn, reset, quit) here. The panel is built from the running
+//! state every frame, so it always shows what is, whoever changed it (a key, a controller).
+//!
+//! A slider dragged across many frames would restart the sea-state build and rebuild the sky
+//! every frame: those two changes go out at most every [`APPLY_EVERY`] seconds, the last
+//! value always. The performance line moves every [`PERF_EVERY`] seconds, so an open panel
+//! nobody touches is redrawn (and allocates, in egui) only then. Times are the frames' display
+//! clock.
+
+use super::{AppError, Frames};
+use crate::render::sky::SunSky;
+use crate::sim::WaveParams;
+use crate::ui::panel::{Comfort, Panel, PanelModel, PanelUpdate, Perf};
+use crate::xr::{FrameLoop, FrameState};
+
+/// Shortest time between two applications of a dragged wind or sky (s).
+pub const APPLY_EVERY: f64 = 0.25;
+
+/// How often the performance line takes the recent frames' medians (s).
+pub const PERF_EVERY: f64 = 1.0;
+
+/// The panel and the changes it has not applied yet.
+pub(super) struct PanelHost {
+    panel: Panel,
+    comfort: Comfort,
+    /// The performance line as last taken, and when (display time, s).
+    perf: Perf,
+    perf_at: f64,
+    /// Waves and sky the user set that wait for [`APPLY_EVERY`].
+    waves: Option<WaveParams>,
+    sun: Option<SunSky>,
+    /// When waves or sky were last applied (display time, s).
+    applied_at: f64,
+}
+
+impl PanelHost {
+    /// The panel for `xr`'s front end, open or closed; `None` when it shows no panel.
+    pub fn new(xr: &dyn FrameLoop, open: bool) -> Option<Self> {
+        let ppp = xr.panel_pixels_per_point()?;
+        Some(Self {
+            panel: Panel::new(open, ppp),
+            comfort: Comfort::default(),
+            perf: Perf {
+                frame_ms: 0.0,
+                gpu_ms: None,
+                level: None,
+            },
+            perf_at: f64::NEG_INFINITY,
+            waves: None,
+            sun: None,
+            applied_at: f64::NEG_INFINITY,
+        })
+    }
+
+    /// The waves and sky the user set that were not applied yet.
+    pub fn pending(&self) -> (Option<WaveParams>, Option<SunSky>) {
+        (self.waves, self.sun)
+    }
+}
+
+impl Frames<'_> {
+    /// The panel's frame: `frame`'s pointer events, the UI, the user's changes applied, the
+    /// panel handed to the backend to show. Returns false when the user asked to quit.
+    pub(super) fn drive_panel(&mut self, frame: &FrameState) -> Result<bool, AppError> {
+        let Some(mut host) = self.panel.take() else {
+            return Ok(true);
+        };
+        let result = self.panel_frame(&mut host, frame);
+        self.panel = Some(host);
+        result
+    }
+
+    fn panel_frame(&mut self, host: &mut PanelHost, frame: &FrameState) -> Result<bool, AppError> {
+        for &e in frame.pointer.iter().flatten() {
+            host.panel.handle(e);
+        }
+        let now = frame.predicted_display_time;
+        if now - host.perf_at >= PERF_EVERY {
+            host.perf_at = now;
+            let (frame_ms, gpu_ms) = self.stats.recent.medians();
+            host.perf = Perf {
+                frame_ms: frame_ms as f32,
+                gpu_ms: gpu_ms.map(|g| g as f32),
+                level: self.governed.as_ref().map(|g| g.level().name()),
+            };
+        }
+        let live = self.panel_model(host);
+        let update: PanelUpdate = host.panel.update(&live, now);
+        if update.haptic {
+            self.xr.panel_haptic();
+        }
+        if let Some(m) = update.edited {
+            self.take_edits(host, &live, &m);
+        }
+        if now - host.applied_at >= APPLY_EVERY && (host.waves.is_some() || host.sun.is_some()) {
+            host.applied_at = now;
+            if let Some(waves) = host.waves.take() {
+                match self.sim.set_waves(waves) {
+                    Ok(()) => log::info!(
+                        "panel: wind {:.1} m/s toward {:.0}°",
+                        waves.wind_speed,
+                        waves.wind_direction_deg
+                    ),
+                    Err(e) => log::warn!("panel: wind change refused: {e}"),
+                }
+            }
+            if let Some(sun) = host.sun.take() {
+                self.renderer.set_sun(self.xr.gpu(), sun)?;
+            }
+        }
+        let r = update.requests;
+        if r.spawn_body {
+            self.spawn_in_front(frame);
+        }
+        if r.reset_bodies {
+            match self.afloat.as_mut() {
+                Some(a) => a.reset(),
+                None => log::info!("no floating bodies in this run: nothing to reset"),
+            }
+        }
+        self.xr.show_panel(&mut host.panel)?;
+        Ok(!r.quit)
+    }
+
+    /// What the panel shows now: the waves and sky as set (or waiting to be), the bodies, the
+    /// comfort options and the performance line as last taken.
+    fn panel_model(&self, host: &PanelHost) -> PanelModel {
+        let waves = host.waves.unwrap_or(self.sim.config().waves);
+        let sun = host.sun.unwrap_or(self.renderer.settings().sun);
+        PanelModel {
+            wind_speed: waves.wind_speed,
+            wind_direction_deg: waves.wind_direction_deg.rem_euclid(360.0),
+            sun_elevation_deg: sun.elevation_deg,
+            sun_azimuth_deg: sun.azimuth_deg.rem_euclid(360.0),
+            clouds: sun.clouds,
+            bodies: self
+                .afloat
+                .as_ref()
+                .and_then(|a| a.world())
+                .map_or(0, |w| w.live() as u32),
+            comfort: host.comfort,
+            perf: host.perf,
+        }
+    }
+
+    /// Files what the user changed from `live` to `m`: waves and sky wait for their turn,
+    /// comfort goes to the backend at once. Values the simulation or sky would refuse are
+    /// logged and dropped (the panel's ranges keep them in range).
+    fn take_edits(&mut self, host: &mut PanelHost, live: &PanelModel, m: &PanelModel) {
+        if (m.wind_speed, m.wind_direction_deg) != (live.wind_speed, live.wind_direction_deg) {
+            let mut waves = host.waves.unwrap_or(self.sim.config().waves);
+            waves.wind_speed = m.wind_speed;
+            waves.wind_direction_deg = m.wind_direction_deg.rem_euclid(360.0);
+            host.waves = Some(waves);
+        }
+        let sky = |p: &PanelModel| (p.sun_elevation_deg, p.sun_azimuth_deg, p.clouds);
+        if sky(m) != sky(live) {
+            let mut sun = host.sun.unwrap_or(self.renderer.settings().sun);
+            sun.elevation_deg = m.sun_elevation_deg;
+            sun.azimuth_deg = m.sun_azimuth_deg.rem_euclid(360.0);
+            sun.clouds = m.clouds;
+            match sun.validate() {
+                Ok(()) => host.sun = Some(sun),
+                Err(e) => log::warn!("panel: sky change refused: {e}"),
+            }
+        }
+        if m.comfort != host.comfort {
+            host.comfort = m.comfort;
+            self.xr.set_comfort(m.comfort);
+        }
+    }
+
+    /// Drops a crate in front of the head of `frame` (the panel's spawn button).
+    fn spawn_in_front(&mut self, frame: &FrameState) {
+        match self.afloat.as_mut() {
+            Some(a) => {
+                if let Err(e) = a.drop_in_front(frame) {
+                    log::warn!("spawn: {e}");
+                }
+            }
+            None => log::info!("no floating bodies in this run: nothing to spawn"),
+        }
+    }
+}
