@@ -262,6 +262,26 @@ impl Afloat {
         self.wet = [false; 2];
     }
 
+    /// Moves the deck to `height` m above the mean sea level (the panel's comfort): the world
+    /// is made again on the next frame with the deck there. Only a deck at a fixed height (the
+    /// headset's) moves; the window's follows the viewer.
+    pub fn move_deck(&mut self, height: f32) -> Result<(), PhysicsError> {
+        if let DeckPlacement::At(_) = self.opts.deck {
+            PhysicsConfig::with_deck_height(height).validate()?;
+            self.opts.deck = DeckPlacement::At(height);
+            self.reset();
+        }
+        Ok(())
+    }
+
+    /// The deck's height above the mean sea level, when it is fixed (the headset's).
+    pub fn deck_height(&self) -> Option<f32> {
+        match self.opts.deck {
+            DeckPlacement::At(h) => Some(h),
+            DeckPlacement::UnderViewer => None,
+        }
+    }
+
     /// What hit the water during this frame's steps (bodies, then hands going in), with
     /// times on the frames' clock.
     pub fn impacts(&self) -> &[Impact] {

@@ -219,7 +219,8 @@ impl<'a> Frames<'a> {
         let sim = Simulation::new(opts.ocean.clone(), opts.threads)?;
         let afloat = opts.floating.as_ref().map(Afloat::new).transpose()?;
         let ears = sound::Ears::new(&opts.audio)?;
-        let panel = panel::PanelHost::new(&*xr, opts.panel_open);
+        let deck = afloat.as_ref().and_then(|a| a.deck_height());
+        let panel = panel::PanelHost::new(&*xr, opts.panel_open, deck);
         // The renderer draws the interaction layer the floating bodies will make.
         let mut settings = opts.renderer;
         settings.interaction = opts

@@ -2,11 +2,12 @@
 //! Each frame the backend's pointer events go in, the panel runs (only when something it
 //! shows changed), and what the user changed is applied: the wind through the simulation's
 //! smooth sea-state change, the sun and clouds through the renderer's sky, comfort through
-//! the backend, the buttons (spawn, reset, quit) here. The panel is built from the running
+//! the backend (turning, seated) and the bodies' world (the deck's height), the buttons
+//! (spawn, reset, quit) here. The panel is built from the running
 //! state every frame, so it always shows what is, whoever changed it (a key, a controller).
 //!
-//! A slider dragged across many frames would restart the sea-state build and rebuild the sky
-//! every frame: those two changes go out at most every [`APPLY_EVERY`] seconds, the last
+//! A slider dragged across many frames would restart the sea-state build, rebuild the sky or
+//! the bodies' world every frame: those changes go out at most every [`APPLY_EVERY`] seconds, the last
 //! value always. The performance line moves every [`PERF_EVERY`] seconds, so an open panel
 //! nobody touches is redrawn (and allocates, in egui) only then. Times are the frames' display
 //! clock.
@@ -30,20 +31,28 @@ pub(super) struct PanelHost {
     /// The performance line as last taken, and when (display time, s).
     perf: Perf,
     perf_at: f64,
-    /// Waves and sky the user set that wait for [`APPLY_EVERY`].
+    /// Waves, sky and deck height the user set that wait for [`APPLY_EVERY`].
     waves: Option<WaveParams>,
     sun: Option<SunSky>,
+    deck: Option<f32>,
     /// When waves or sky were last applied (display time, s).
     applied_at: f64,
 }
 
 impl PanelHost {
-    /// The panel for `xr`'s front end, open or closed; `None` when it shows no panel.
-    pub fn new(xr: &dyn FrameLoop, open: bool) -> Option<Self> {
+    /// The panel for `xr`'s front end, open or closed; `None` when it shows no panel. `deck`
+    /// is the deck's height when it is fixed (the comfort options show it).
+    pub fn new(xr: &dyn FrameLoop, open: bool, deck: Option<f32>) -> Option<Self> {
         let ppp = xr.panel_pixels_per_point()?;
+        let mut comfort = Comfort::default();
+        if let Some(h) = deck {
+            comfort.deck_height_m = h;
+        }
+        let mut panel = Panel::new(open, ppp);
+        panel.set_draw_cursor(xr.panel_draws_cursor());
         Some(Self {
-            panel: Panel::new(open, ppp),
-            comfort: Comfort::default(),
+            panel,
+            comfort,
             perf: Perf {
                 frame_ms: 0.0,
                 gpu_ms: None,
@@ -52,6 +61,7 @@ impl PanelHost {
             perf_at: f64::NEG_INFINITY,
             waves: None,
             sun: None,
+            deck: None,
             applied_at: f64::NEG_INFINITY,
         })
     }
@@ -96,7 +106,8 @@ impl Frames<'_> {
         if let Some(m) = update.edited {
             self.take_edits(host, &live, &m);
         }
-        if now - host.applied_at >= APPLY_EVERY && (host.waves.is_some() || host.sun.is_some()) {
+        let waiting = host.waves.is_some() || host.sun.is_some() || host.deck.is_some();
+        if now - host.applied_at >= APPLY_EVERY && waiting {
             host.applied_at = now;
             if let Some(waves) = host.waves.take() {
                 match self.sim.set_waves(waves) {
@@ -110,6 +121,12 @@ impl Frames<'_> {
             }
             if let Some(sun) = host.sun.take() {
                 self.renderer.set_sun(self.xr.gpu(), sun)?;
+            }
+            if let (Some(h), Some(afloat)) = (host.deck.take(), self.afloat.as_mut()) {
+                match afloat.move_deck(h) {
+                    Ok(()) => log::info!("panel: deck {h:.1} m above the sea"),
+                    Err(e) => log::warn!("panel: deck change refused: {e}"),
+                }
             }
         }
         let r = update.requests;
@@ -169,6 +186,9 @@ impl Frames<'_> {
             }
         }
         if m.comfort != host.comfort {
+            if m.comfort.deck_height_m != host.comfort.deck_height_m {
+                host.deck = Some(m.comfort.deck_height_m);
+            }
             host.comfort = m.comfort;
             self.xr.set_comfort(m.comfort);
         }

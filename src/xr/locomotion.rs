@@ -17,7 +17,17 @@ pub struct LocomotionSettings {
     pub snap_threshold: f32,
     /// Deflection below which the next snap turn is armed again.
     pub snap_release: f32,
+    /// Turn smoothly with the stick (at [`SMOOTH_TURN_SPEED`] at full deflection) instead of
+    /// in snaps.
+    pub smooth_turn: bool,
 }
+
+/// Turning speed of smooth turning at full stick (rad/s): 90°/s, slow enough for most users.
+pub const SMOOTH_TURN_SPEED: f32 = std::f32::consts::FRAC_PI_2;
+
+/// How much higher a seated user's floor is put (m): a standing eye height (1.7 m) less a
+/// seated one (1.2 m), so they see the sea from the deck as if standing.
+pub const SEATED_RAISE: f32 = 0.5;
 
 impl Default for LocomotionSettings {
     fn default() -> Self {
@@ -27,6 +37,7 @@ impl Default for LocomotionSettings {
             dead_zone: 0.15,
             snap_threshold: 0.7,
             snap_release: 0.3,
+            smooth_turn: false,
         }
     }
 }
@@ -40,6 +51,10 @@ pub struct Locomotion {
     origin: Vec3,
     yaw: f32,
     snap_armed: bool,
+    /// The floor's raise above the deck for a seated user (m).
+    raised: f32,
+    /// The origin's height the session started with (m).
+    start_height: f32,
 }
 
 impl Locomotion {
@@ -52,6 +67,8 @@ impl Locomotion {
             origin,
             yaw: 0.0,
             snap_armed: true,
+            raised: 0.0,
+            start_height: origin.y,
         }
     }
 
@@ -76,18 +93,50 @@ impl Locomotion {
             self.origin += (flat_forward * stick.y + right * stick.x) * s.speed * dt;
         }
         let mut turned = false;
-        if self.snap_armed && turn_x.abs() >= s.snap_threshold {
-            // Turn about the head, so its world position stays where it is.
-            let (head_before, _) = self.to_world(head_position, head_orientation);
-            self.yaw -= turn_x.signum() * s.snap_angle;
-            let (head_after, _) = self.to_world(head_position, head_orientation);
-            self.origin += head_before - head_after;
+        if s.smooth_turn {
+            if turn_x.abs() > s.dead_zone && dt.is_finite() && dt > 0.0 {
+                self.turn_about_head(
+                    head_position,
+                    head_orientation,
+                    -turn_x.clamp(-1.0, 1.0) * SMOOTH_TURN_SPEED * dt,
+                );
+            }
+        } else if self.snap_armed && turn_x.abs() >= s.snap_threshold {
+            self.turn_about_head(
+                head_position,
+                head_orientation,
+                -turn_x.signum() * s.snap_angle,
+            );
             self.snap_armed = false;
             turned = true;
         } else if turn_x.abs() < s.snap_release {
             self.snap_armed = true;
         }
         turned
+    }
+
+    /// Turns by `angle` (rad, positive to the left) about the head, so its world position
+    /// stays where it is.
+    fn turn_about_head(&mut self, head_position: Vec3, head_orientation: Quat, angle: f32) {
+        let (head_before, _) = self.to_world(head_position, head_orientation);
+        self.yaw += angle;
+        let (head_after, _) = self.to_world(head_position, head_orientation);
+        self.origin += head_before - head_after;
+    }
+
+    /// Takes the user's comfort options: the snap-turn angle (degrees), smooth turning,
+    /// seated (the floor raised by [`SEATED_RAISE`]) and the deck moved `deck_raise` metres
+    /// above where the session started it (the floor moves with it).
+    pub fn set_comfort(&mut self, snap_deg: f32, smooth: bool, seated: bool, deck_raise: f32) {
+        if snap_deg.is_finite() && snap_deg > 0.0 {
+            self.settings.snap_angle = snap_deg.to_radians();
+        }
+        self.settings.smooth_turn = smooth;
+        self.raised = if seated { SEATED_RAISE } else { 0.0 };
+        if deck_raise.is_finite() {
+            self.home.y = self.start_height + deck_raise;
+        }
+        self.origin.y = self.home.y + self.raised;
     }
 
     /// Re-anchors the user on the deck: the head (tracking-space pose `head_position`,
@@ -103,7 +152,11 @@ impl Locomotion {
         }
         let r = Quat::from_rotation_y(self.yaw);
         let head = r * head_position;
-        self.origin = Vec3::new(self.home.x - head.x, self.home.y, self.home.z - head.z);
+        self.origin = Vec3::new(
+            self.home.x - head.x,
+            self.home.y + self.raised,
+            self.home.z - head.z,
+        );
     }
 
     /// A tracking-space pose in the world.
@@ -172,6 +225,36 @@ mod tests {
             l.update(Vec3::ZERO, Quat::IDENTITY, Vec2::new(0.1, -0.1), 0.0, 0.014);
         }
         assert_eq!(l.to_world(Vec3::ZERO, Quat::IDENTITY).0, Vec3::ZERO);
+    }
+
+    #[test]
+    fn comfort_turns_smoothly_raises_a_seated_floor_and_moves_with_the_deck() {
+        let mut l = Locomotion::new(Vec3::new(0.0, 2.0, 0.0), LocomotionSettings::default());
+        let head = Vec3::new(0.3, 1.2, 0.1);
+        l.set_comfort(45.0, true, true, 1.0);
+        assert!(
+            (l.to_world(head, Quat::IDENTITY).0.y - (1.2 + 2.0 + 1.0 + SEATED_RAISE)).abs() < 1e-6
+        );
+        // Smooth: a full stick for half a second turns 45° about the head, no snap.
+        let before = l.to_world(head, Quat::IDENTITY).0;
+        for _ in 0..50 {
+            assert!(!l.update(head, Quat::IDENTITY, Vec2::ZERO, 1.0, 0.01));
+        }
+        assert!(
+            (l.yaw() + SMOOTH_TURN_SPEED * 0.5).abs() < 1e-4,
+            "{}",
+            l.yaw()
+        );
+        assert!((l.to_world(head, Quat::IDENTITY).0 - before).length() < 1e-4);
+        // Inside the dead zone nothing turns.
+        let yaw = l.yaw();
+        l.update(head, Quat::IDENTITY, Vec2::ZERO, 0.1, 0.5);
+        assert_eq!(l.yaw(), yaw);
+        // Snapping again, by the new angle; standing, the deck back where it was.
+        l.set_comfort(45.0, false, false, 0.0);
+        assert!(l.update(head, Quat::IDENTITY, Vec2::ZERO, 1.0, 0.01));
+        assert!((l.yaw() - yaw + 45f32.to_radians()).abs() < 1e-5);
+        assert!((l.to_world(head, Quat::IDENTITY).0.y - 3.2).abs() < 1e-6);
     }
 
     #[test]

@@ -179,6 +179,12 @@ pub trait FrameLoop {
         None
     }
 
+    /// Whether the panel draws its own cursor (the headset's aim rays have none; the window
+    /// has the mouse's).
+    fn panel_draws_cursor(&self) -> bool {
+        false
+    }
+
     /// Shows `panel` with this frame (called every frame after the app updated it, before
     /// [`FrameLoop::end_frame`]): a closed panel hides it; an open one is repainted only when
     /// its [`Panel::generation`] moved since the last paint.

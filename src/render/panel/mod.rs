@@ -6,8 +6,11 @@
 
 use ash::vk;
 
+mod canvas;
 mod pipeline;
 mod textures;
+
+pub use canvas::PanelCanvas;
 
 use textures::{free_texture, Texture};
 

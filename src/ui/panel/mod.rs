@@ -63,6 +63,8 @@ pub struct Panel {
     widgets: Widgets,
     /// Images drawn so far ([`Panel::generation`]).
     generation: u64,
+    /// Draw the pointer's cursor into the image (the headset's aim rays have no other).
+    draw_cursor: bool,
 }
 
 impl Panel {
@@ -80,7 +82,14 @@ impl Panel {
             textures: egui::TexturesDelta::default(),
             widgets: Widgets::default(),
             generation: 0,
+            draw_cursor: false,
         }
+    }
+
+    /// Draws a cursor where the pointer meets the panel, into the image (the headset: its
+    /// aim rays have no cursor of their own; the window has the mouse's).
+    pub fn set_draw_cursor(&mut self, on: bool) {
+        self.draw_cursor = on;
     }
 
     /// How many images the UI has drawn: a painter repaints when this moved since its last
@@ -169,6 +178,11 @@ impl Panel {
         if events.is_empty() && !due && self.drawn == Some(shown) {
             return update;
         }
+        log::debug!(
+            "panel redrawn at {now:.3} s: {} events, repaint due {due}, model changed {}",
+            events.len(),
+            self.drawn != Some(shown)
+        );
         let raw = egui::RawInput {
             screen_rect: Some(egui::Rect::from_min_size(
                 egui::Pos2::ZERO,
@@ -209,7 +223,20 @@ impl Panel {
             quit: widgets.quit.map(|v| v * ppp),
             perf: widgets.perf.map(|v| v * ppp),
         };
-        self.primitives = self.ctx.tessellate(out.shapes, out.pixels_per_point);
+        let mut shapes = out.shapes;
+        if let Some(p) = self.pointer.cursor().filter(|_| self.draw_cursor) {
+            let at = egui::pos2(p[0] / ppp, p[1] / ppp);
+            for shape in [
+                egui::Shape::circle_filled(at, 6.0, egui::Color32::from_black_alpha(140)),
+                egui::Shape::circle_filled(at, 4.0, egui::Color32::WHITE),
+            ] {
+                shapes.push(egui::epaint::ClippedShape {
+                    clip_rect: egui::Rect::EVERYTHING,
+                    shape,
+                });
+            }
+        }
+        self.primitives = self.ctx.tessellate(shapes, out.pixels_per_point);
         self.textures.append(out.textures_delta);
         self.repaint_at = out
             .viewport_output

@@ -9,11 +9,14 @@ use glam::{Quat, Vec3};
 use openxr as xr;
 
 use super::error::{check, Call, CallError};
+use super::input::InputFrame;
 use super::lifecycle::{self, Action, Event, ExitReason};
-use super::{backend, next_preset, FramePoll, OpenXr, Pending, EXIT_SIGNAL, LOCAL_EYE_HEIGHT};
+use super::{backend, FramePoll, OpenXr, Pending, EXIT_SIGNAL, LOCAL_EYE_HEIGHT};
 use crate::base::{EyeView, Fov};
+use crate::lod::QualityPreset;
 use crate::physics::{HandInput, Pose};
-use crate::xr::{FrameState, Tweak, XrError, MAX_TWEAKS};
+use crate::ui::panel::PointerEvent;
+use crate::xr::{FrameState, Tweak, XrError, MAX_POINTER_EVENTS, MAX_TWEAKS};
 
 impl OpenXr {
     /// One step of [`crate::xr::FrameLoop::begin_frame`] that never waits for the session to
@@ -78,7 +81,8 @@ impl OpenXr {
             None
         };
         let mut tweaks = [None; MAX_TWEAKS];
-        self.handle_input(located.as_ref(), period as f32, &mut tweaks)?;
+        let input = self.handle_input(located.as_ref(), period as f32, &mut tweaks)?;
+        let pointer = self.aim_at_panel(time, input.as_ref());
         let blank_view = xr::View {
             pose: xr::Posef::IDENTITY,
             fov: xr::Fovf {
@@ -119,7 +123,7 @@ impl OpenXr {
             should_render,
             tweaks,
             hands,
-            pointer: [None; crate::xr::MAX_POINTER_EVENTS],
+            pointer,
         };
         self.index += 1;
         Ok(frame)
@@ -279,24 +283,45 @@ impl OpenXr {
         })
     }
 
-    /// Reads the controllers, moves the user and collects the tweaks of this frame.
+    /// The control panel's pointer events of this frame (the menu button, the aim rays and
+    /// triggers of `input`), at `time`.
+    fn aim_at_panel(
+        &mut self,
+        time: xr::Time,
+        input: Option<&InputFrame>,
+    ) -> [Option<PointerEvent>; MAX_POINTER_EVENTS] {
+        let Some(input) = input else {
+            return [None; MAX_POINTER_EVENTS];
+        };
+        let s = self.session();
+        let aims = if self.panel.is_open() {
+            s.input.aims(&s.space, time)
+        } else {
+            [None; 2]
+        };
+        self.panel.aim(input.menu, aims, input.triggers).events
+    }
+
+    /// Reads the controllers, moves the user and collects the tweaks of this frame; returns
+    /// what was read (`None` while not focused).
     fn handle_input(
         &mut self,
         views: Option<&[xr::View; 2]>,
         dt: f32,
         tweaks: &mut [Option<Tweak>; MAX_TWEAKS],
-    ) -> Result<(), XrError> {
+    ) -> Result<Option<InputFrame>, XrError> {
         if !self.lifecycle.focused() {
-            return Ok(());
+            return Ok(None);
         }
         let s = self.session_mut();
         let frame = match s.input.read(&s.session, dt) {
             Ok(f) => f,
-            Err(xr::sys::Result::SESSION_NOT_FOCUSED) => return Ok(()),
+            Err(xr::sys::Result::SESSION_NOT_FOCUSED) => return Ok(None),
             Err(e) => return Err(CallError::new("xrSyncActions", e).into()),
         };
         if let Some(v) = views {
             let (p, q) = head_pose(v);
+            self.panel.head = Some((p, q));
             if self.locomotion.update(p, q, frame.glide, frame.turn_x, dt) {
                 log::debug!("snap turn: yaw {:.0}°", self.locomotion.yaw().to_degrees());
             }
@@ -315,10 +340,11 @@ impl OpenXr {
             let s = self.session();
             s.input.tick(&s.session);
         }
-        if frame.wind_steps != 0 {
+        // While the panel is open the triggers press on it.
+        if frame.wind_steps != 0 && !self.panel.is_open() {
             tweaks[n] = Some(Tweak::WindSpeed(frame.wind_steps as f32));
         }
-        Ok(())
+        Ok(Some(frame))
     }
 }
 
@@ -366,5 +392,15 @@ fn fov(f: xr::Fovf) -> Fov {
         angle_right: f.angle_right,
         angle_up: f.angle_up,
         angle_down: f.angle_down,
+    }
+}
+
+/// The quality preset after `p`, wrapping around.
+pub fn next_preset(p: QualityPreset) -> QualityPreset {
+    match p {
+        QualityPreset::Low => QualityPreset::Medium,
+        QualityPreset::Medium => QualityPreset::High,
+        QualityPreset::High => QualityPreset::Ultra,
+        QualityPreset::Ultra => QualityPreset::Low,
     }
 }

@@ -11,9 +11,12 @@
 //! | wind −1 m/s | left trigger | left select |
 //! | recenter on the deck (hold 1 s, haptic tick) | B | left menu |
 //! | grab a floating body (haptic tick), let go to throw | grip (squeeze), either hand | — |
+//! | open or close the control panel | left menu (≡) | — |
+//! | aim at the open panel, press on it (haptic tick) | aim ray and trigger, either hand | aim ray and select |
 //!
-//! The hands' grip poses are located with their velocities (`xrLocateSpace` with
-//! `XrSpaceVelocity`) in the session's space each frame, for grabbing and throwing.
+//! While the panel is open the triggers press on it and leave the wind alone. The hands' grip
+//! poses are located with their velocities (`xrLocateSpace` with `XrSpaceVelocity`) in the
+//! session's space each frame, for grabbing and throwing; their aim poses, for the panel.
 
 use glam::{Quat, Vec2, Vec3};
 use openxr as xr;
@@ -31,12 +34,20 @@ struct Profile {
     recenter: &'static str,
     /// Each hand's squeeze (grab), where the controller has one.
     squeeze: Option<[&'static str; 2]>,
+    /// The panel's menu button, where the controller has one to spare.
+    menu: Option<&'static str>,
 }
 
 /// Grip poses of the left and right hand (every profile has them).
 const GRIP_POSES: [&str; 2] = [
     "/user/hand/left/input/grip/pose",
     "/user/hand/right/input/grip/pose",
+];
+
+/// Aim poses of the left and right hand (every profile has them): the panel's rays.
+const AIM_POSES: [&str; 2] = [
+    "/user/hand/left/input/aim/pose",
+    "/user/hand/right/input/aim/pose",
 ];
 
 /// A profile of the Touch family: the same controls on every model.
@@ -54,6 +65,7 @@ const fn touch(path: &'static str, usable: fn(&xr::InstanceExtensions) -> bool) 
             "/user/hand/left/input/squeeze/value",
             "/user/hand/right/input/squeeze/value",
         ]),
+        menu: Some("/user/hand/left/input/menu/click"),
     }
 }
 
@@ -77,6 +89,7 @@ const PROFILES: [Profile; 4] = [
         wind_down: "/user/hand/left/input/select/click",
         recenter: "/user/hand/left/input/menu/click",
         squeeze: None,
+        menu: None,
     },
 ];
 
@@ -158,6 +171,10 @@ pub struct InputFrame {
     pub wind_steps: i32,
     /// The recenter button was held long enough this frame.
     pub recenter: bool,
+    /// The panel's menu button went down this frame.
+    pub menu: bool,
+    /// The left and right triggers, 0 to 1 (the panel's press).
+    pub triggers: [f32; 2],
 }
 
 /// One hand located this frame, in the session's space.
@@ -186,11 +203,15 @@ pub struct Input {
     recenter: xr::Action<bool>,
     haptic: xr::Action<xr::Haptic>,
     grip_pose: xr::Action<xr::Posef>,
+    aim_pose: xr::Action<xr::Posef>,
     squeeze: xr::Action<f32>,
+    menu: xr::Action<bool>,
     /// The left and right hand's paths (subaction paths).
     hands: [xr::Path; 2],
     /// The grip poses' action spaces, made when the set is attached.
     grip_spaces: Option<[xr::Space; 2]>,
+    /// The aim poses' action spaces, made when the set is attached.
+    aim_spaces: Option<[xr::Space; 2]>,
     right: xr::Path,
     up: TriggerRepeat,
     down: TriggerRepeat,
@@ -239,6 +260,12 @@ impl Input {
         let squeeze = set
             .create_action::<f32>("grab", "Grab a floating body", &[left, right])
             .map_err(|e| err("grab", e))?;
+        let aim_pose = set
+            .create_action::<xr::Posef>("aim_pose", "Aim at the panel", &[left, right])
+            .map_err(|e| err("aim_pose", e))?;
+        let menu = set
+            .create_action::<bool>("panel", "Open or close the panel", &[])
+            .map_err(|e| err("panel", e))?;
         for p in PROFILES.iter().filter(|p| (p.usable)(instance.exts())) {
             let path = |s: &str| instance.string_to_path(s);
             let suggest = || -> Result<(), xr::sys::Result> {
@@ -260,6 +287,12 @@ impl Input {
                 for g in GRIP_POSES {
                     b.push(xr::Binding::new(&grip_pose, path(g)?));
                 }
+                for a in AIM_POSES {
+                    b.push(xr::Binding::new(&aim_pose, path(a)?));
+                }
+                if let Some(m) = p.menu {
+                    b.push(xr::Binding::new(&menu, path(m)?));
+                }
                 for s in p.squeeze.into_iter().flatten() {
                     b.push(xr::Binding::new(&squeeze, path(s)?));
                 }
@@ -280,9 +313,12 @@ impl Input {
             recenter,
             haptic,
             grip_pose,
+            aim_pose,
             squeeze,
+            menu,
             hands: [left, right],
             grip_spaces: None,
+            aim_spaces: None,
             right,
             up: TriggerRepeat::default(),
             down: TriggerRepeat::default(),
@@ -305,7 +341,34 @@ impl Input {
             Ok(spaces) => self.grip_spaces = Some(spaces),
             Err(e) => log::warn!("xrCreateActionSpace (grip pose): {e:?} ({e}): no hands"),
         }
+        let aim = |hand| {
+            self.aim_pose
+                .create_space(session, hand, xr::Posef::IDENTITY)
+        };
+        match aim(self.hands[0]).and_then(|l| Ok([l, aim(self.hands[1])?])) {
+            Ok(spaces) => self.aim_spaces = Some(spaces),
+            Err(e) => log::warn!("xrCreateActionSpace (aim pose): {e:?} ({e}): no panel rays"),
+        }
         Ok(())
+    }
+
+    /// Both hands' aim rays at `time` in `base` (origin, forward): `None` for a hand not
+    /// located. Allocates nothing.
+    pub fn aims(&self, base: &xr::Space, time: xr::Time) -> [Option<(Vec3, Vec3)>; 2] {
+        let Some(spaces) = self.aim_spaces.as_ref() else {
+            return [None; 2];
+        };
+        spaces.each_ref().map(|space| {
+            let location = space.locate(base, time).ok()?;
+            let need =
+                xr::SpaceLocationFlags::POSITION_VALID | xr::SpaceLocationFlags::ORIENTATION_VALID;
+            if !location.location_flags.contains(need) {
+                return None;
+            }
+            let (p, q) = (location.pose.position, location.pose.orientation);
+            let rotation = Quat::from_xyzw(q.x, q.y, q.z, q.w).normalize();
+            Some((Vec3::new(p.x, p.y, p.z), rotation * Vec3::NEG_Z))
+        })
     }
 
     /// Both hands at `time` in `base` (after [`Input::read`] synced the actions this frame):
@@ -401,12 +464,15 @@ impl Input {
             self.up.update(up_value, dt) as i32 - self.down.update(down_value, dt) as i32;
         let r = self.recenter.state(session, any)?;
         let recenter = self.hold.update(r.is_active && r.current_state, dt);
+        let m = self.menu.state(session, any)?;
         Ok(InputFrame {
             glide,
             turn_x: turn.x,
             next_preset: p.is_active && p.changed_since_last_sync && p.current_state,
             wind_steps,
             recenter,
+            menu: m.is_active && m.changed_since_last_sync && m.current_state,
+            triggers: [down_value, up_value],
         })
     }
 

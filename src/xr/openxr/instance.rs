@@ -4,7 +4,7 @@
 
 use openxr as xr;
 
-use super::backend;
+use super::{backend, OpenXrOptions};
 use crate::xr::XrError;
 
 /// Loads the OpenXR loader (the system's, or the APK's on Android).
@@ -129,4 +129,29 @@ pub(super) fn create_instance(
             }
             e => backend(format!("xrCreateInstance: {e:?} ({e})")),
         })
+}
+
+/// Checks the options before the runtime is touched.
+pub(super) fn validate(options: &OpenXrOptions) -> Result<(), XrError> {
+    if let Some(s) = options.resolution_scale {
+        if !(s.is_finite() && (0.1..=4.0).contains(&s)) {
+            return Err(backend(format!(
+                "resolution scale {s}: must be in [0.1, 4]"
+            )));
+        }
+    }
+    if let Some(r) = options.max_refresh_rate {
+        if !(r.is_finite() && r >= 1.0) {
+            return Err(backend(format!(
+                "maximum refresh rate {r}: must be at least 1 Hz"
+            )));
+        }
+    }
+    if !(options.deck_height.is_finite() && options.deck_height.abs() <= 1000.0) {
+        return Err(backend(format!(
+            "deck height {}: must be within ±1000 m",
+            options.deck_height
+        )));
+    }
+    Ok(())
 }

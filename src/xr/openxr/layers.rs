@@ -1,23 +1,25 @@
 //! The composition layers a frame ends with: one projection layer whose two views are the
 //! layers of the colour swapchain, posed where they were rendered from, with the depth
-//! swapchain's layers chained (`XR_KHR_composition_layer_depth`) when depth is submitted; or
-//! no layer when the frame was not rendered.
+//! swapchain's layers chained (`XR_KHR_composition_layer_depth`) when depth is submitted, then
+//! the control panel's quad when it is open; or no layer when the frame was not rendered.
 
 use ash::vk;
 use openxr as xr;
 
+use super::panel::QuadLayer;
 use super::session::Session;
 
 /// `xrEndFrame` for a frame displayed at `time`: with the projection layer of `views` when
 /// `rendered`, with no layer otherwise. `area` is the part of each image drawn: all of it, or
 /// the GPU-time governor's scaled rectangle; the field of view is the same either way (the
-/// compositor stretches the rectangle over it).
+/// compositor stretches the rectangle over it). `quad`, the open panel, goes over it.
 pub(super) fn end_frame(
     session: &mut Session,
     time: xr::Time,
     views: &[xr::View; 2],
     area: vk::Rect2D,
     rendered: bool,
+    quad: Option<QuadLayer<'_>>,
 ) -> Result<(), xr::sys::Result> {
     if !rendered {
         return session
@@ -71,7 +73,46 @@ pub(super) fn end_frame(
     let layer = xr::CompositionLayerProjection::new()
         .space(&session.space)
         .views(&projection_views);
+    let Some(q) = quad else {
+        return session
+            .stream
+            .end(time, xr::EnvironmentBlendMode::OPAQUE, &[&layer]);
+    };
+    let c = q.quad.centre;
+    let o = q.quad.orientation;
+    let panel = xr::CompositionLayerQuad::new()
+        .space(&session.space)
+        .eye_visibility(xr::EyeVisibility::BOTH)
+        .sub_image(
+            xr::SwapchainSubImage::new()
+                .swapchain(q.swapchain)
+                .image_array_index(0)
+                .image_rect(xr::Rect2Di {
+                    offset: xr::Offset2Di { x: 0, y: 0 },
+                    extent: xr::Extent2Di {
+                        width: q.extent.width as i32,
+                        height: q.extent.height as i32,
+                    },
+                }),
+        )
+        .pose(xr::Posef {
+            orientation: xr::Quaternionf {
+                x: o.x,
+                y: o.y,
+                z: o.z,
+                w: o.w,
+            },
+            position: xr::Vector3f {
+                x: c.x,
+                y: c.y,
+                z: c.z,
+            },
+        })
+        .size(xr::Extent2Df {
+            width: q.quad.size[0],
+            height: q.quad.size[1],
+        });
     session
         .stream
-        .end(time, xr::EnvironmentBlendMode::OPAQUE, &[&layer])
+        .end(time, xr::EnvironmentBlendMode::OPAQUE, &[&layer, &panel])
 }

@@ -10,7 +10,8 @@
 //! - `frame`: events into the [`lifecycle`] state machine, `xrWaitFrame`/`xrBeginFrame`,
 //!   views located without allocating at the predicted display time (also the simulation
 //!   time), the controllers;
-//! - `layers`: `xrEndFrame` with the projection layer (none when the frame is not shown);
+//! - `layers`: `xrEndFrame` with the projection layer (none when the frame is not shown) and,
+//!   while the control panel is open, its quad layer (`panel`, aimed at as `panel_aim` says);
 //! - `stats`: frame statistics and the session [`Summary`];
 //! - `exit_signal`: Ctrl-C and SIGTERM end the session cleanly.
 //!
@@ -25,6 +26,8 @@ pub mod input;
 mod instance;
 mod layers;
 pub mod lifecycle;
+mod panel;
+mod panel_aim;
 pub mod quest;
 mod quest_setup;
 mod session;
@@ -168,6 +171,8 @@ pub struct OpenXr {
     threads: threads::ThreadSettings,
     stats: FrameStats,
     event_buffer: xr::EventDataBuffer,
+    /// The control panel's quad layer.
+    panel: panel::QuadPanel,
 }
 
 /// Why the backend could not start or stopped: a message that says what to install or check.
@@ -179,7 +184,7 @@ impl OpenXr {
     /// Loads the OpenXR loader, connects to the active runtime and sets everything up for the
     /// frame loop. Every failure is an error whose message names what is missing.
     pub fn new(options: OpenXrOptions) -> Result<Self, XrError> {
-        validate(&options)?;
+        instance::validate(&options)?;
         let entry = instance::load_entry(&())?;
         let instance = instance::create_instance(&entry, &(), false)?;
         Self::with_instance(instance, options)
@@ -199,7 +204,7 @@ impl OpenXr {
         java_vm: *mut std::ffi::c_void,
         activity: *mut std::ffi::c_void,
     ) -> Result<Self, XrError> {
-        validate(&options)?;
+        instance::validate(&options)?;
         // SAFETY: the caller's contract.
         let platform = unsafe { xr::AndroidPlatformInfo::new(java_vm, activity) };
         let entry = instance::load_entry(&platform)?;
@@ -328,6 +333,7 @@ impl OpenXr {
             threads,
             stats: FrameStats::new(summary),
             event_buffer: xr::EventDataBuffer::new(),
+            panel: panel::QuadPanel::default(),
         })
     }
 
@@ -349,7 +355,11 @@ impl OpenXr {
 
     /// The session summary so far.
     pub fn summary(&self) -> Summary {
-        self.stats.summary(&self.lifecycle)
+        Summary {
+            frames_with_panel: self.panel.frames_with_quad,
+            panel_images: self.panel.acquired,
+            ..self.stats.summary(&self.lifecycle)
+        }
     }
 
     /// Asks the runtime to end the session (Ctrl-C, back button); the frame loop ends once the
@@ -393,41 +403,6 @@ impl OpenXr {
                 log::warn!("xrRequestDisplayRefreshRateFB: {e:?} ({e})");
             }
         }
-    }
-}
-
-/// Checks the options before the runtime is touched.
-fn validate(options: &OpenXrOptions) -> Result<(), XrError> {
-    if let Some(s) = options.resolution_scale {
-        if !(s.is_finite() && (0.1..=4.0).contains(&s)) {
-            return Err(backend(format!(
-                "resolution scale {s}: must be in [0.1, 4]"
-            )));
-        }
-    }
-    if let Some(r) = options.max_refresh_rate {
-        if !(r.is_finite() && r >= 1.0) {
-            return Err(backend(format!(
-                "maximum refresh rate {r}: must be at least 1 Hz"
-            )));
-        }
-    }
-    if !(options.deck_height.is_finite() && options.deck_height.abs() <= 1000.0) {
-        return Err(backend(format!(
-            "deck height {}: must be within ±1000 m",
-            options.deck_height
-        )));
-    }
-    Ok(())
-}
-
-/// The quality preset after `p`, wrapping around.
-pub fn next_preset(p: QualityPreset) -> QualityPreset {
-    match p {
-        QualityPreset::Low => QualityPreset::Medium,
-        QualityPreset::Medium => QualityPreset::High,
-        QualityPreset::High => QualityPreset::Ultra,
-        QualityPreset::Ultra => QualityPreset::Low,
     }
 }
 
@@ -502,11 +477,14 @@ impl FrameLoop for OpenXr {
             .session
             .as_mut()
             .expect("the session exists until drop");
-        match layers::end_frame(session, pending.time, &pending.views, area, rendered) {
+        let quad = self.panel.layer().filter(|_| rendered);
+        let with_quad = quad.is_some();
+        match layers::end_frame(session, pending.time, &pending.views, area, rendered, quad) {
             Ok(()) => {}
             Err(xr::sys::Result::ERROR_SESSION_NOT_RUNNING) => return Ok(()),
             Err(e) => return Err(CallError::new("xrEndFrame", e).into()),
         }
+        self.panel.frames_with_quad += u64::from(with_quad);
         if rendered {
             let submitted = &mut self.stats.summary.frames_submitted;
             *submitted += 1;
@@ -576,12 +554,35 @@ impl FrameLoop for OpenXr {
             s.input.tick_hand(&s.session, hand);
         }
     }
+
+    fn panel_pixels_per_point(&self) -> Option<f32> {
+        Some(panel::PANEL_PIXELS_PER_POINT)
+    }
+
+    fn panel_draws_cursor(&self) -> bool {
+        true
+    }
+
+    fn show_panel(&mut self, panel: &mut crate::ui::panel::Panel) -> Result<(), XrError> {
+        self.show_quad_panel(panel)
+    }
+
+    fn panel_haptic(&mut self) {
+        self.panel_tick();
+    }
+
+    fn set_comfort(&mut self, c: crate::ui::panel::Comfort) {
+        let deck_raise = c.deck_height_m - self.options.deck_height;
+        self.locomotion
+            .set_comfort(c.snap_turn_deg, c.smooth_turn, c.seated, deck_raise);
+    }
 }
 
 impl Drop for OpenXr {
     fn drop(&mut self) {
         if let Some(ctx) = self.ctx.as_ref() {
             ctx.wait_idle();
+            self.panel.destroy(ctx);
         }
         // The session and its swapchains go before the Vulkan device, the device before the
         // OpenXR instance (a field, dropped after this).

@@ -44,6 +44,10 @@ pub struct Summary {
     pub governor: Option<QualityStep>,
     /// The GPU-time governor's level changes.
     pub governor_changes: u32,
+    /// Frames submitted with the control panel's quad layer.
+    pub frames_with_panel: u64,
+    /// Images of the panel's swapchain acquired (once per change of the panel).
+    pub panel_images: u64,
 }
 
 impl Summary {
@@ -53,7 +57,7 @@ impl Summary {
             "frames_waited={} frames_submitted={} frames_not_rendered={} states={} \
              mean_period_ms={:.3} wait_p50_ms={:.3} wait_p99_ms={:.3} exit={:?} eye={}x{} \
              format={} depth={} space={} refresh_hz={} gpu_governor={} \
-             gpu_governor_changes={} runtime=\"{}\"",
+             gpu_governor_changes={} frames_with_panel={} panel_images={} runtime=\"{}\"",
             self.frames_waited,
             self.frames_submitted,
             self.frames_not_rendered,
@@ -71,6 +75,8 @@ impl Summary {
                 .map_or("n/a".to_string(), |r| format!("{r}")),
             self.governor.map_or("off", |g| g.name()),
             self.governor_changes,
+            self.frames_with_panel,
+            self.panel_images,
             self.runtime
         )
     }

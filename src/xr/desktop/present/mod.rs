@@ -153,13 +153,9 @@ impl Presenter {
     /// Paints `panel` into the overlay's image when it drew a new one (see
     /// [`Presenter::present`]'s `panel`).
     pub fn paint_panel(&mut self, ctx: &GpuContext, panel: &mut Panel) -> Result<(), RenderError> {
-        if self.overlay.is_none() {
-            self.overlay = Some(overlay::Overlay::new(ctx)?);
-        }
-        match self.overlay.as_mut() {
-            Some(o) => o.paint(ctx, panel),
-            None => Ok(()),
-        }
+        self.overlay
+            .get_or_insert_with(overlay::Overlay::default)
+            .paint(ctx, panel)
     }
 
     /// Where the last presented frame showed the panel (window pixels), if it did.

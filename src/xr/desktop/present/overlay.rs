@@ -1,5 +1,5 @@
 //! The control panel over the window's view (issue 31): the panel painted
-//! ([`PanelPainter`]) into an sRGB image of its own, on its own command buffer, only when the
+//! ([`PanelCanvas`]) into an sRGB image of its own, on its own command buffer, only when the
 //! panel drew a new image ([`Panel::generation`]); each presented frame then blits that image
 //! over the eyes at its [`OverlayPlacement`]. The panel is opaque, so a blit composites it.
 
@@ -7,8 +7,8 @@ use ash::vk;
 
 use crate::render::barrier::Access;
 use crate::render::memory::{Image, ImageDesc};
-use crate::render::panel::{PanelFrame, PanelPainter, PanelTarget};
-use crate::render::{commands, GpuContext, RenderError};
+use crate::render::panel::{PanelCanvas, PanelTarget};
+use crate::render::{GpuContext, RenderError};
 use crate::ui::panel::Panel;
 
 /// The overlay image's format: the painter encodes to sRGB on write, a blit to the window's
@@ -115,45 +115,16 @@ impl OverlayBlit {
     }
 }
 
-/// The panel's painter, its image and the command buffer that paints it.
+/// The panel's canvas and the image it paints.
+#[derive(Default)]
 pub struct Overlay {
-    painter: Option<PanelPainter>,
+    canvas: Option<PanelCanvas>,
     image: Option<Image>,
-    pool: vk::CommandPool,
-    cmd: vk::CommandBuffer,
-    /// Signalled when the last paint finished (made signalled).
-    fence: vk::Fence,
     /// The panel generation the image shows.
     painted: Option<u64>,
 }
 
 impl Overlay {
-    /// The command buffer and fence; the painter and image are made on the first paint.
-    pub fn new(ctx: &GpuContext) -> Result<Self, RenderError> {
-        let mut this = Self {
-            painter: None,
-            image: None,
-            pool: vk::CommandPool::null(),
-            cmd: vk::CommandBuffer::null(),
-            fence: vk::Fence::null(),
-            painted: None,
-        };
-        let made = (|| {
-            this.pool =
-                commands::command_pool(ctx, vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER)?;
-            this.cmd = commands::primary_buffers(ctx, this.pool, 1)?[0];
-            this.fence = commands::fence(ctx, true)?;
-            Ok(())
-        })();
-        match made {
-            Ok(()) => Ok(this),
-            Err(e) => {
-                this.destroy(ctx);
-                Err(e)
-            }
-        }
-    }
-
     /// Paints `panel`'s latest image when it is newer than the one painted (submitted on the
     /// queue before the frame's present, which blits it).
     pub fn paint(&mut self, ctx: &GpuContext, panel: &mut Panel) -> Result<(), RenderError> {
@@ -165,11 +136,6 @@ impl Overlay {
             width: w,
             height: h,
         };
-        let d = &ctx.device;
-        // SAFETY: the fence is alive; the last paint's commands (and the painter's buffers
-        // they read) are done once it signals.
-        unsafe { d.wait_for_fences(&[self.fence], true, u64::MAX) }
-            .map_err(RenderError::vk("vkWaitForFences"))?;
         if self.image.as_ref().is_some_and(|i| i.extent != extent) {
             // A new size (never in a run today): earlier presents may still read the old one.
             ctx.wait_idle();
@@ -193,8 +159,10 @@ impl Overlay {
                 },
             )?);
         }
-        if self.painter.is_none() {
-            self.painter = Some(PanelPainter::new(
+        if self.canvas.is_none() {
+            // The pass waits for earlier blits' reads of the image (its external dependency
+            // starts at the transfer stage) and leaves it ready for the next ones.
+            self.canvas = Some(PanelCanvas::new(
                 ctx,
                 PanelTarget {
                     format: FORMAT,
@@ -202,46 +170,10 @@ impl Overlay {
                 },
             )?);
         }
-        let (Some(painter), Some(image)) = (self.painter.as_mut(), self.image.as_ref()) else {
+        let (Some(canvas), Some(image)) = (self.canvas.as_mut(), self.image.as_ref()) else {
             unreachable!("both made above");
         };
-        let textures = panel.take_textures();
-        // SAFETY: the fence signalled, so the command buffer is not pending.
-        unsafe {
-            d.reset_command_buffer(self.cmd, vk::CommandBufferResetFlags::empty())
-                .map_err(RenderError::vk("vkResetCommandBuffer"))?;
-            d.begin_command_buffer(
-                self.cmd,
-                &vk::CommandBufferBeginInfo::default()
-                    .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
-            )
-            .map_err(RenderError::vk("vkBeginCommandBuffer"))?;
-        }
-        // The pass waits for earlier blits' reads of the image (its external dependency
-        // starts at the transfer stage) and leaves it ready for the next ones.
-        painter.record(
-            ctx,
-            self.cmd,
-            PanelFrame {
-                view: image.view,
-                extent,
-                primitives: panel.primitives(),
-                textures: &textures,
-                pixels_per_point: panel.pixels_per_point(),
-            },
-        )?;
-        let cmds = [self.cmd];
-        let submit = [vk::SubmitInfo::default().command_buffers(&cmds)];
-        // SAFETY: the command buffer is recorded and ended below before the submit; the fence
-        // is reset only after it signalled.
-        unsafe {
-            d.end_command_buffer(self.cmd)
-                .map_err(RenderError::vk("vkEndCommandBuffer"))?;
-            d.reset_fences(&[self.fence])
-                .map_err(RenderError::vk("vkResetFences"))?;
-            d.queue_submit(ctx.queue, &submit, self.fence)
-                .map_err(RenderError::vk("vkQueueSubmit"))?;
-        }
+        canvas.paint(ctx, panel, image.view, extent)?;
         self.painted = Some(panel.generation());
         Ok(())
     }
@@ -259,19 +191,12 @@ impl Overlay {
     /// Frees everything. Waits for the device first.
     pub fn destroy(&mut self, ctx: &GpuContext) {
         ctx.wait_idle();
-        if let Some(mut p) = self.painter.take() {
-            p.destroy(ctx);
+        if let Some(mut c) = self.canvas.take() {
+            c.destroy(ctx);
         }
         if let Some(mut i) = self.image.take() {
             i.destroy(ctx);
         }
-        // SAFETY: the device is idle; null handles are no-ops.
-        unsafe {
-            ctx.device.destroy_fence(self.fence, None);
-            ctx.device.destroy_command_pool(self.pool, None);
-        }
-        self.fence = vk::Fence::null();
-        self.pool = vk::CommandPool::null();
         self.painted = None;
     }
 }
