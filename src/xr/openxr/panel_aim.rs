@@ -94,8 +94,11 @@ pub struct HandAim {
 pub struct AimPointer {
     /// The hand that drives the panel (0 left, 1 right).
     hand: usize,
-    /// Its trigger is down (with hysteresis).
+    /// Its trigger is down on the panel (with hysteresis).
     down: bool,
+    /// Per hand: its trigger was let go since the panel opened or it last pressed (a trigger
+    /// held while the panel opens does not press on it).
+    armed: [bool; 2],
     /// The aim last sent.
     aimed: Option<[f32; 2]>,
 }
@@ -134,15 +137,20 @@ impl AimPointer {
         if menu {
             push(PointerEvent::Menu, &mut out);
         }
+        let trigger = |i: usize| hands[i].map_or(0.0, |h| h.trigger);
         let Some(quad) = quad else {
-            // Closed: the next open starts fresh (a held trigger does not press on it).
+            // Closed: the next open starts fresh.
             *self = Self {
-                down: hands.iter().flatten().any(|h| h.trigger >= TRIGGER_RELEASE),
+                armed: [0, 1].map(|i| trigger(i) < TRIGGER_RELEASE),
+                hand: self.hand,
                 ..Self::default()
             };
             out.hand = self.hand;
             return out;
         };
+        for (i, armed) in self.armed.iter_mut().enumerate() {
+            *armed |= trigger(i) < TRIGGER_RELEASE;
+        }
         let hits = hands.map(|h| h.and_then(|h| quad.hit(h.origin, h.direction).map(|x| (h, x))));
         for (ray, hit) in out.rays.iter_mut().zip(&hits) {
             *ray = hit.map(|(h, (_, t))| (h.origin, h.origin + h.direction.normalize() * t));
@@ -159,9 +167,10 @@ impl AimPointer {
             self.aimed = aim;
             push(PointerEvent::Aim(aim), &mut out);
         }
-        let trigger = hands[self.hand].map_or(0.0, |h| h.trigger);
-        if !self.down && trigger >= TRIGGER_PRESS {
+        let trigger = trigger(self.hand);
+        if !self.down && self.armed[self.hand] && trigger >= TRIGGER_PRESS {
             self.down = true;
+            self.armed[self.hand] = false;
             push(PointerEvent::Trigger(true), &mut out);
         } else if self.down && trigger < TRIGGER_RELEASE {
             self.down = false;
@@ -258,7 +267,7 @@ mod tests {
             [None, Some(aim_at(&q, [100.0, 100.0], 0.0))],
             Some(&q),
         );
-        assert_eq!(events(&f), [PointerEvent::Trigger(false)]);
+        assert!(events(&f).is_empty());
         // Left aims too, right presses: the right hand drives.
         let both = |l: [f32; 2], r: [f32; 2], lt: f32, rt: f32| {
             [Some(aim_at(&q, l, lt)), Some(aim_at(&q, r, rt))]
