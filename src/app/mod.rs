@@ -134,6 +134,10 @@ pub trait RunHooks {
 
     /// A frame ended (after [`FrameLoop::end_frame`]). Tests count allocations here.
     fn frame_done(&mut self, _frame: &FrameState) {}
+
+    /// The control panel drew a new image during this frame (egui ran: it allocates). Tests
+    /// that count allocations tell these frames apart.
+    fn panel_drawn(&mut self, _frame: &FrameState) {}
 }
 
 /// Hooks that do nothing.

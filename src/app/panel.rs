@@ -100,6 +100,9 @@ impl Frames<'_> {
         }
         let live = self.panel_model(host);
         let update: PanelUpdate = host.panel.update(&live, now);
+        if update.redrawn {
+            self.hooks.panel_drawn(frame);
+        }
         if update.haptic {
             self.xr.panel_haptic();
         }
