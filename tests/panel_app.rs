@@ -35,6 +35,8 @@ struct Pointing {
     shown: Vec<(u64, bool, u64, u32)>,
     frame: u64,
     haptics: usize,
+    /// An aim ray to hand the app every frame (world space), as the headset's would.
+    ray: Option<[glam::Vec3; 2]>,
 }
 
 impl FrameLoop for Pointing {
@@ -48,6 +50,7 @@ impl FrameLoop for Pointing {
         let mut state = self.inner.begin_frame()?;
         if let Some(s) = state.as_mut() {
             self.frame = s.index;
+            s.rays[1] = self.ray;
             let acts = self.script.iter().filter(|(f, _)| *f == s.index);
             for ((_, act), slot) in acts.zip(s.pointer.iter_mut()) {
                 *slot = Some(match *act {
@@ -132,6 +135,7 @@ fn the_panel_drives_the_running_app() {
         shown: Vec::new(),
         frame: 0,
         haptics: 0,
+        ray: None,
     };
     let mut opts = gpu::small_options(StereoMode::Multiview, Vec::new());
     opts.panel_open = true;
@@ -177,4 +181,72 @@ fn the_panel_drives_the_running_app() {
     println!("redrawn on frames {redraws:?}");
     assert_eq!(generation(40), generation(69), "redrawn on {redraws:?}");
     assert!(redraws.len() < 40, "redrawn on {redraws:?}");
+}
+
+/// The headset's aim ray, drawn by the app as a thin glowing solid where the backend says it
+/// meets the panel: the frame with it differs from the one without along the ray, brighter.
+/// Writes `target/aim-ray.png`.
+#[test]
+fn aim_rays_are_drawn_as_thin_bright_lines() {
+    const W: u32 = 256;
+    let run = |ray: Option<[glam::Vec3; 2]>| {
+        let inner = HeadlessXr::new(
+            &gpu::validated(),
+            EyeSize::new(W, W).unwrap(),
+            gpu::standing(4.5, 0.0, -8.0),
+            4,
+        )
+        .unwrap_or_else(|e| panic!("cannot start headless Vulkan (lavapipe): {e}"));
+        let log = inner.gpu().validation.clone().expect("validation layer");
+        let mut xr = Pointing {
+            inner,
+            script: Vec::new(),
+            widgets: Widgets::default(),
+            shown: Vec::new(),
+            frame: 0,
+            haptics: 0,
+            ray,
+        };
+        let mut opts = gpu::small_options(StereoMode::Multiview, vec![3]);
+        opts.floating = Some(FloatOptions {
+            // Three bodies: with fewer box instances lavapipe 22.3's multiview draws the boxes
+            // of both views into the first (see docs/notes/lavapipe-multiview-solids.md).
+            bodies: BodyCount::new(3).unwrap(),
+            deck: DeckPlacement::UnderViewer,
+            interaction: None,
+        });
+        let mut frames = gpu::Collect(Vec::new());
+        app::run(&mut xr, &opts, &mut frames).expect("run");
+        drop(xr);
+        assert_eq!(log.errors(), 0, "validation errors: {:?}", log.messages());
+        frames.0.pop().expect("one capture")
+    };
+    // From a hand low and to the right, 10 cm ahead, to a panel 60 cm ahead.
+    let ray = [glam::Vec3::new(0.08, 4.3, -0.1), glam::Vec3::new(0.0, 4.38, -0.6)];
+    let (plain, with) = (run(None), run(Some(ray)));
+    let luma = |p: [u8; 4]| 0.2126 * p[0] as f32 + 0.7152 * p[1] as f32 + 0.0722 * p[2] as f32;
+    let counts = [0, 1].map(|eye| {
+        let (mut brighter, mut darker) = (0, 0);
+        for y in 0..W {
+            for x in 0..W {
+                let d = luma(with.pixel(eye, x, y)) - luma(plain.pixel(eye, x, y));
+                if d > 30.0 {
+                    brighter += 1;
+                } else if d < -30.0 {
+                    darker += 1;
+                }
+            }
+        }
+        (brighter, darker)
+    });
+    let out = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .parent()
+        .unwrap()
+        .join("aim-ray.png");
+    image::save_buffer(&out, &with.eyes[0], W, W, image::ColorType::Rgba8).unwrap();
+    println!("ray: (brighter, darker) pixels per eye {counts:?} ({})", out.display());
+    for (eye, (brighter, darker)) in counts.into_iter().enumerate() {
+        assert!(brighter > 80, "eye {eye}: {brighter} pixels brighter");
+        assert!(darker < brighter / 4, "eye {eye}: {darker} pixels darker");
+    }
 }

@@ -215,6 +215,10 @@ impl Afloat {
                 .iter()
                 .any(|h| matches!(h.state(), HandState::Hovering(b) if b == id))
         };
+        // The aim rays to the control panel, where they meet it.
+        let rays = frame.rays.iter().flatten();
+        self.solids
+            .extend(rays.filter_map(|[from, to]| Solid::ray(*from, *to)));
         for b in world.instances() {
             self.solids.push(Solid {
                 kind: match b.kind {
@@ -288,7 +292,7 @@ impl Afloat {
         &self.impacts
     }
 
-    /// This frame's solids: the deck, then every live body.
+    /// This frame's solids: the deck, the aim rays to the panel, then every live body.
     pub fn solids(&self) -> &[Solid] {
         &self.solids
     }

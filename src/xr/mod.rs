@@ -76,6 +76,9 @@ pub struct FrameState {
     /// window's mouse and Tab key, a controller's aim ray, trigger and menu button), in panel
     /// pixels. `None` slots are empty.
     pub pointer: [Option<PointerEvent>; MAX_POINTER_EVENTS],
+    /// Per hand, its aim ray where it meets the open panel: start and end in the world (the
+    /// app draws them). `None` without controllers or off the panel.
+    pub rays: [Option<[glam::Vec3; 2]>; 2],
 }
 
 /// The images a frame renders into: indices into [`TargetImages::images`] and

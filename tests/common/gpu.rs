@@ -34,7 +34,8 @@ impl Frame {
     }
 }
 
-struct Collect(Vec<Frame>);
+/// Hooks that keep every captured frame.
+pub struct Collect(pub Vec<Frame>);
 
 impl RunHooks for Collect {
     fn capture(&mut self, c: &Capture<'_>) -> Result<(), app::AppError> {

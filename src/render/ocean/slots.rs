@@ -300,7 +300,7 @@ impl Slot {
     pub fn write_solids(&mut self, solids: &[Solid]) -> Result<[(u32, u32); 3], RenderError> {
         if solids.len() > MAX_SOLIDS {
             return Err(RenderError::Invalid(format!(
-                "{} solids: at most {MAX_SOLIDS} (every body and the deck)",
+                "{} solids: at most {MAX_SOLIDS} (every body, the deck, two rays)",
                 solids.len()
             )));
         }

@@ -20,6 +20,8 @@ pub enum SolidKind {
     Boat,
     /// The deck the user stands on: the box, grey planks.
     Deck,
+    /// A controller's aim ray to the control panel: a thin box, pale and glowing.
+    Ray,
 }
 
 impl SolidKind {
@@ -27,7 +29,7 @@ impl SolidKind {
     pub fn shape(self) -> Shape {
         match self {
             SolidKind::Buoy => Shape::Cylinder,
-            SolidKind::Crate | SolidKind::Deck => Shape::Box,
+            SolidKind::Crate | SolidKind::Deck | SolidKind::Ray => Shape::Box,
             SolidKind::Boat => Shape::Hull,
         }
     }
@@ -39,6 +41,7 @@ impl SolidKind {
             SolidKind::Crate => [0.30, 0.19, 0.10],
             SolidKind::Boat => [0.62, 0.62, 0.58],
             SolidKind::Deck => [0.30, 0.24, 0.18],
+            SolidKind::Ray => [0.80, 0.88, 0.95],
         }
     }
 }
@@ -70,8 +73,30 @@ pub struct Solid {
     pub highlight: bool,
 }
 
-/// Most solids one frame draws: every body and the deck.
-pub const MAX_SOLIDS: usize = crate::physics::MAX_BODIES + 1;
+/// Most solids one frame draws: every body, the deck and both hands' aim rays.
+pub const MAX_SOLIDS: usize = crate::physics::MAX_BODIES + 3;
+
+/// Thickness of an aim ray (m): about 4 pixels at half a metre on a Quest 3.
+pub const RAY_THICKNESS: f32 = 0.0015;
+
+impl Solid {
+    /// An aim ray from `from` to `to` (world space): a thin glowing box between them.
+    pub fn ray(from: Vec3, to: Vec3) -> Option<Self> {
+        let along = to - from;
+        let length = along.length();
+        let dir = along.try_normalize()?;
+        let rotation = glam::Quat::from_rotation_arc(Vec3::Z, dir);
+        Some(Self {
+            kind: SolidKind::Ray,
+            model: Mat4::from_scale_rotation_translation(
+                Vec3::new(RAY_THICKNESS, RAY_THICKNESS, length),
+                rotation,
+                (from + to) * 0.5,
+            ),
+            highlight: true,
+        })
+    }
+}
 
 /// A unit mesh's vertex: position and face normal.
 #[repr(C)]

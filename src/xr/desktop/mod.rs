@@ -292,6 +292,7 @@ impl FrameLoop for HeadlessXr {
             tweaks,
             hands: [None; 2],
             pointer: [None; crate::xr::MAX_POINTER_EVENTS],
+            rays: [None; 2],
         };
         self.frame += 1;
         Ok(Some(state))

@@ -82,7 +82,7 @@ impl OpenXr {
         };
         let mut tweaks = [None; MAX_TWEAKS];
         let input = self.handle_input(located.as_ref(), period as f32, &mut tweaks)?;
-        let pointer = self.aim_at_panel(time, input.as_ref());
+        let (pointer, rays) = self.aim_at_panel(time, input.as_ref());
         let blank_view = xr::View {
             pose: xr::Posef::IDENTITY,
             fov: xr::Fovf {
@@ -124,6 +124,7 @@ impl OpenXr {
             tweaks,
             hands,
             pointer,
+            rays,
         };
         self.index += 1;
         Ok(frame)
@@ -284,14 +285,18 @@ impl OpenXr {
     }
 
     /// The control panel's pointer events of this frame (the menu button, the aim rays and
-    /// triggers of `input`), at `time`.
+    /// triggers of `input`), at `time`, and the rays that meet it in the world.
+    #[allow(clippy::type_complexity)]
     fn aim_at_panel(
         &mut self,
         time: xr::Time,
         input: Option<&InputFrame>,
-    ) -> [Option<PointerEvent>; MAX_POINTER_EVENTS] {
+    ) -> (
+        [Option<PointerEvent>; MAX_POINTER_EVENTS],
+        [Option<[Vec3; 2]>; 2],
+    ) {
         let Some(input) = input else {
-            return [None; MAX_POINTER_EVENTS];
+            return ([None; MAX_POINTER_EVENTS], [None; 2]);
         };
         let s = self.session();
         let aims = if self.panel.is_open() {
@@ -299,7 +304,10 @@ impl OpenXr {
         } else {
             [None; 2]
         };
-        self.panel.aim(input.menu, aims, input.triggers).events
+        let aimed = self.panel.aim(input.menu, aims, input.triggers);
+        let world = |p: Vec3| self.locomotion.to_world(p, Quat::IDENTITY).0;
+        let rays = aimed.rays.map(|r| r.map(|(a, b)| [world(a), world(b)]));
+        (aimed.events, rays)
     }
 
     /// Reads the controllers, moves the user and collects the tweaks of this frame; returns

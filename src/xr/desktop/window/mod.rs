@@ -364,6 +364,7 @@ impl FrameLoop for WindowXr {
             tweaks: self.input.take_tweaks(),
             hands: [None; 2],
             pointer: self.input.panel.take(),
+            rays: [None; 2],
         };
         self.frame += 1;
         Ok(Some(state))
