@@ -222,7 +222,10 @@ fn aim_rays_are_drawn_as_thin_bright_lines() {
         frames.0.pop().expect("one capture")
     };
     // From a hand low and to the right, 10 cm ahead, to a panel 60 cm ahead.
-    let ray = [glam::Vec3::new(0.08, 4.3, -0.1), glam::Vec3::new(0.0, 4.38, -0.6)];
+    let ray = [
+        glam::Vec3::new(0.08, 4.3, -0.1),
+        glam::Vec3::new(0.0, 4.38, -0.6),
+    ];
     let (plain, with) = (run(None), run(Some(ray)));
     let luma = |p: [u8; 4]| 0.2126 * p[0] as f32 + 0.7152 * p[1] as f32 + 0.0722 * p[2] as f32;
     let counts = [0, 1].map(|eye| {
@@ -244,7 +247,10 @@ fn aim_rays_are_drawn_as_thin_bright_lines() {
         .unwrap()
         .join("aim-ray.png");
     image::save_buffer(&out, &with.eyes[0], W, W, image::ColorType::Rgba8).unwrap();
-    println!("ray: (brighter, darker) pixels per eye {counts:?} ({})", out.display());
+    println!(
+        "ray: (brighter, darker) pixels per eye {counts:?} ({})",
+        out.display()
+    );
     for (eye, (brighter, darker)) in counts.into_iter().enumerate() {
         assert!(brighter > 80, "eye {eye}: {brighter} pixels brighter");
         assert!(darker < brighter / 4, "eye {eye}: {darker} pixels darker");

@@ -73,6 +73,7 @@ pub fn run_options(
         },
         // Closed until the menu button opens it.
         panel_open: false,
+        comfort: Default::default(),
     })
 }
 
@@ -100,6 +101,11 @@ pub fn apply_settings(options: &mut RunOptions, settings: &Settings) -> Result<(
     options.audio.volume = settings.volume;
     if !settings.audio {
         options.audio.sink = SoundSink::Off;
+    }
+    // Comfort: turning and seated for the backend, the kept deck for the bodies' world.
+    options.comfort = settings.comfort(DEFAULT_DECK_HEIGHT);
+    if let (Some(h), Some(f)) = (settings.deck_height_m, options.floating.as_mut()) {
+        f.deck = DeckPlacement::At(h);
     }
     Ok(())
 }

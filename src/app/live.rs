@@ -8,6 +8,7 @@ use std::time::Duration;
 use crate::lod::QualityPreset;
 use crate::render::sky::SunSky;
 use crate::sim::{Simulation, WaveParams};
+use crate::ui::panel::Comfort;
 use crate::ui::{Beaufort, Settings};
 use crate::xr::gpu_governor::QualityStep;
 use crate::xr::Tweak;
@@ -22,6 +23,9 @@ pub struct Chosen {
     pub preset: QualityPreset,
     /// Sun and clouds.
     pub sun: SunSky,
+    /// Comfort options, the deck's height included (as the panel left them, else as the run
+    /// started).
+    pub comfort: Comfort,
 }
 
 impl Chosen {
@@ -38,6 +42,10 @@ impl Chosen {
             clouds: Some(self.sun.clouds),
             volume,
             audio,
+            snap_turn_deg: self.comfort.snap_turn_deg,
+            smooth_turn: self.comfort.smooth_turn,
+            seated: self.comfort.seated,
+            deck_height_m: Some(self.comfort.deck_height_m),
             ..Settings::default()
         }
     }

@@ -109,6 +109,9 @@ pub struct RunOptions {
     pub audio: SoundOptions,
     /// Start with the control panel open (where the backend shows one).
     pub panel_open: bool,
+    /// Comfort options to start with (the backend's turning and floor; the deck's height is
+    /// the floating bodies' deck).
+    pub comfort: crate::ui::panel::Comfort,
 }
 
 /// One captured frame: both eyes as tightly packed sRGB RGBA8 rows.
@@ -223,8 +226,12 @@ impl<'a> Frames<'a> {
         let sim = Simulation::new(opts.ocean.clone(), opts.threads)?;
         let afloat = opts.floating.as_ref().map(Afloat::new).transpose()?;
         let ears = sound::Ears::new(&opts.audio)?;
-        let deck = afloat.as_ref().and_then(|a| a.deck_height());
-        let panel = panel::PanelHost::new(&*xr, opts.panel_open, deck);
+        let mut comfort = opts.comfort;
+        if let Some(h) = afloat.as_ref().and_then(|a| a.deck_height()) {
+            comfort.deck_height_m = h;
+        }
+        xr.set_comfort(comfort);
+        let panel = panel::PanelHost::new(&*xr, opts.panel_open, comfort);
         // The renderer draws the interaction layer the floating bodies will make.
         let mut settings = opts.renderer;
         settings.interaction = opts
@@ -454,6 +461,10 @@ impl<'a> Frames<'a> {
                 .as_ref()
                 .map_or(self.lod.settings().preset(), |g| g.preset),
             sun: sun.unwrap_or(self.renderer.settings().sun),
+            comfort: self
+                .panel
+                .as_ref()
+                .map_or(self.opts.comfort, |p| p.comfort()),
         };
         let gpu = self.xr.gpu();
         gpu.wait_idle();

@@ -40,14 +40,10 @@ pub(super) struct PanelHost {
 }
 
 impl PanelHost {
-    /// The panel for `xr`'s front end, open or closed; `None` when it shows no panel. `deck`
-    /// is the deck's height when it is fixed (the comfort options show it).
-    pub fn new(xr: &dyn FrameLoop, open: bool, deck: Option<f32>) -> Option<Self> {
+    /// The panel for `xr`'s front end, open or closed, showing `comfort` as the run starts;
+    /// `None` when it shows no panel.
+    pub fn new(xr: &dyn FrameLoop, open: bool, comfort: Comfort) -> Option<Self> {
         let ppp = xr.panel_pixels_per_point()?;
-        let mut comfort = Comfort::default();
-        if let Some(h) = deck {
-            comfort.deck_height_m = h;
-        }
         let mut panel = Panel::new(open, ppp);
         panel.set_draw_cursor(xr.panel_draws_cursor());
         Some(Self {
@@ -64,6 +60,11 @@ impl PanelHost {
             deck: None,
             applied_at: f64::NEG_INFINITY,
         })
+    }
+
+    /// The comfort options as the user left them.
+    pub fn comfort(&self) -> Comfort {
+        self.comfort
     }
 
     /// The waves and sky the user set that were not applied yet.

@@ -320,6 +320,7 @@ impl ViewArgs {
             governor: self.governor(false)?,
             audio: self.sound(false)?,
             panel_open: false,
+            comfort: Default::default(),
         })
     }
 

@@ -5,7 +5,7 @@
 //! its images depend on its flags alone.
 
 use vr_ocean::app::RunReport;
-use vr_ocean::ui::SettingsFile;
+use vr_ocean::ui::{Settings, SettingsFile};
 
 use super::args::{OnOff, PresetArg, ViewArgs};
 
@@ -31,8 +31,9 @@ pub fn open(view: &ViewArgs) -> Result<Option<SettingsFile>, Box<dyn std::error:
     Ok(Some(file))
 }
 
-/// Applies the saved settings of `file` to `view` where no flag was given.
-pub fn apply_saved(file: &SettingsFile, view: &mut ViewArgs) {
+/// Applies the saved settings of `file` to `view` where no flag was given; returns them (the
+/// comfort options and the deck are the command's to apply).
+pub fn apply_saved(file: &SettingsFile, view: &mut ViewArgs) -> Settings {
     let loaded = file.load();
     if let Some(w) = &loaded.warning {
         log::warn!("settings: {w}");
@@ -72,6 +73,12 @@ pub fn apply_saved(file: &SettingsFile, view: &mut ViewArgs) {
             s.preset
         );
     }
+    s
+}
+
+/// Whether `--deck-height` was given.
+pub fn deck_height_given() -> bool {
+    given("--deck-height")
 }
 
 /// Saves what the run ended with: its waves, preset and sun, and the sound as asked.

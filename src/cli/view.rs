@@ -11,6 +11,7 @@ use super::CmdResult;
 use vr_ocean::app::{self, DeckPlacement, FloatOptions, FrameTimes};
 use vr_ocean::base::ParamError;
 use vr_ocean::export;
+use vr_ocean::physics::DEFAULT_DECK_HEIGHT;
 use vr_ocean::render::Msaa;
 use vr_ocean::xr::desktop::window::{OpenError, WindowOptions, WindowSize, WindowXr, KEYS_HELP};
 use vr_ocean::xr::desktop::{self, CameraPath, EyeSize, HeadlessXr};
@@ -285,9 +286,9 @@ impl app::RunHooks for FrameWriter {
 pub fn window_cmd(mut a: WindowArgs, fallback: bool) -> CmdResult {
     let size = WindowSize::parse(&a.size)?;
     let kept = settings::open(&a.view)?;
-    if let Some(file) = &kept {
-        settings::apply_saved(file, &mut a.view);
-    }
+    let saved = kept
+        .as_ref()
+        .map(|file| settings::apply_saved(file, &mut a.view));
     if a.frames == Some(0) {
         return Err(ParamError::new("frames", 0.0, "at least 1 frame").into());
     }
@@ -298,6 +299,10 @@ pub fn window_cmd(mut a: WindowArgs, fallback: bool) -> CmdResult {
     let mut opts = a.view.run_options(Vec::new(), warmup)?;
     opts.audio = a.view.sound(true)?;
     opts.panel_open = a.panel == PanelArg::Open;
+    // Kept as they were (the window has no use for them; the headset does).
+    if let Some(s) = &saved {
+        opts.comfort = s.comfort(DEFAULT_DECK_HEIGHT);
+    }
     opts.floating = Some(FloatOptions {
         bodies,
         deck: DeckPlacement::UnderViewer,
@@ -370,14 +375,22 @@ pub fn xr_cmd(mut a: XrArgs) -> CmdResult {
         return Err(ParamError::new("frames", 0.0, "at least 1 frame").into());
     }
     let kept = settings::open(&a.view)?;
-    if let Some(file) = &kept {
-        settings::apply_saved(file, &mut a.view);
+    let saved = kept
+        .as_ref()
+        .map(|file| settings::apply_saved(file, &mut a.view));
+    if let Some(h) = saved.as_ref().and_then(|s| s.deck_height_m) {
+        if !settings::deck_height_given() {
+            a.deck_height = h;
+        }
     }
     // Checked before any window or device opens.
     let bodies = a.view.bodies()?;
     let mut opts = a.view.run_options(Vec::new(), 10)?;
     opts.audio = a.view.sound(true)?;
     opts.panel_open = a.panel == PanelArg::Open;
+    if let Some(s) = &saved {
+        opts.comfort = s.comfort(a.deck_height);
+    }
     opts.floating = Some(FloatOptions {
         bodies,
         deck: DeckPlacement::At(a.deck_height),

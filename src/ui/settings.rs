@@ -1,5 +1,5 @@
 //! The user's choices that outlive a run: the sea (wind, its direction, choppiness), the sky
-//! (sun, clouds), the quality preset and the sound. Serialized as JSON with every field
+//! (sun, clouds), the quality preset, the sound and comfort (turning, seated, the deck). Serialized as JSON with every field
 //! optional on reading (a file from an older version fills what it lacks with the defaults)
 //! and checked against the same ranges the command line checks.
 
@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 use crate::base::ParamError;
 use crate::lod::QualityPreset;
 use crate::sim::WaveParams;
+use crate::ui::panel::Comfort;
 
 /// The file format's version.
 pub const SETTINGS_VERSION: u32 = 1;
@@ -36,6 +37,15 @@ pub struct Settings {
     pub volume: f32,
     /// Whether the sound plays.
     pub audio: bool,
+    /// One snap turn (degrees, 15 to 90).
+    pub snap_turn_deg: f32,
+    /// Turn smoothly instead of in snaps.
+    pub smooth_turn: bool,
+    /// Seated: the floor raised to a standing eye height.
+    pub seated: bool,
+    /// The headset's deck height above the mean sea level (m, 0.5 to 10); `None`: the
+    /// default.
+    pub deck_height_m: Option<f32>,
 }
 
 impl Default for Settings {
@@ -52,6 +62,10 @@ impl Default for Settings {
             clouds: None,
             volume: 1.0,
             audio: true,
+            snap_turn_deg: Comfort::default().snap_turn_deg,
+            smooth_turn: false,
+            seated: false,
+            deck_height_m: None,
         }
     }
 }
@@ -94,6 +108,17 @@ impl Settings {
             let v = self.clouds.unwrap_or_default() as f64;
             return Err(ParamError::new("clouds", v, "a share of the sky in [0, 1]"));
         }
+        if !(15.0..=90.0).contains(&self.snap_turn_deg) {
+            return Err(ParamError::new(
+                "snap-turn",
+                self.snap_turn_deg as f64,
+                "degrees in [15, 90]",
+            ));
+        }
+        if !within(self.deck_height_m, 0.5, 10.0) {
+            let v = self.deck_height_m.unwrap_or_default() as f64;
+            return Err(ParamError::new("deck-height", v, "metres in [0.5, 10]"));
+        }
         if !(0.0..=1.0).contains(&self.volume) {
             return Err(ParamError::new(
                 "volume",
@@ -118,6 +143,16 @@ impl Settings {
         Ok(s)
     }
 
+    /// The comfort options kept (the deck at `default_deck` m when none was kept).
+    pub fn comfort(&self, default_deck: f32) -> Comfort {
+        Comfort {
+            snap_turn_deg: self.snap_turn_deg,
+            smooth_turn: self.smooth_turn,
+            deck_height_m: self.deck_height_m.unwrap_or(default_deck),
+            seated: self.seated,
+        }
+    }
+
     /// Pretty JSON, as saved.
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).expect("settings are plain data")
@@ -134,9 +169,19 @@ mod tests {
             wind_speed: 17.5,
             preset: "medium".into(),
             sun_elevation_deg: Some(3.0),
+            snap_turn_deg: 45.0,
+            smooth_turn: true,
+            seated: true,
+            deck_height_m: Some(4.5),
             ..Settings::default()
         };
         assert_eq!(Settings::from_json(&s.to_json()).unwrap(), s);
+        let c = s.comfort(2.9);
+        assert_eq!(
+            (c.snap_turn_deg, c.smooth_turn, c.seated, c.deck_height_m),
+            (45.0, true, true, 4.5)
+        );
+        assert_eq!(Settings::default().comfort(3.3).deck_height_m, 3.3);
         let partial = Settings::from_json(r#"{"wind_speed": 4.0}"#).unwrap();
         assert_eq!(partial.wind_speed, 4.0);
         assert_eq!(partial.preset, "high");
@@ -150,6 +195,8 @@ mod tests {
             (r#"{"preset": "max"}"#, "preset"),
             (r#"{"clouds": 1.5}"#, "clouds"),
             (r#"{"sun_elevation_deg": 95}"#, "sun-elevation"),
+            (r#"{"snap_turn_deg": 5}"#, "snap-turn"),
+            (r#"{"deck_height_m": 40}"#, "deck-height"),
             (r#"{"version": 99}"#, "newer"),
             (r#"{"wind_speed": 4.0"#, "EOF"),
             ("", "EOF"),

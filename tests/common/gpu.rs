@@ -66,6 +66,7 @@ pub fn small_options(stereo: StereoMode, capture: Vec<u64>) -> RunOptions {
         governor: Default::default(),
         audio: Default::default(),
         panel_open: false,
+        comfort: Default::default(),
     }
 }
 

@@ -22,7 +22,7 @@ impl Default for Comfort {
         Self {
             snap_turn_deg: 30.0,
             smooth_turn: false,
-            deck_height_m: 2.0,
+            deck_height_m: crate::physics::DEFAULT_DECK_HEIGHT,
             seated: false,
         }
     }
