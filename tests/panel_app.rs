@@ -209,8 +209,9 @@ fn aim_rays_are_drawn_as_thin_bright_lines() {
         };
         let mut opts = gpu::small_options(StereoMode::Multiview, vec![3]);
         opts.floating = Some(FloatOptions {
-            // Three bodies: with fewer box instances lavapipe 22.3's multiview draws the boxes
-            // of both views into the first (see docs/notes/lavapipe-multiview-solids.md).
+            // Bodies, so one box is wholly on screen: lavapipe 22.3's multiview draws a draw
+            // whose every instance is clipped into the first view only (Mesa's draw module,
+            // fixed in 23.0.4; docs/notes/lavapipe-multiview-solids.md).
             bodies: BodyCount::new(3).unwrap(),
             deck: DeckPlacement::UnderViewer,
             interaction: None,

@@ -4,6 +4,7 @@ use android_activity::{AndroidApp, MainEvent, PollEvent};
 
 use super::activity::{ActivityEvent, ActivityState};
 use crate::render::{GpuContext, TargetImages};
+use crate::ui::panel::{Comfort, Panel};
 use crate::xr::gpu_governor::{GovernorCaps, GovernorState};
 use crate::xr::openxr::{FramePoll, OpenXr};
 use crate::xr::{Acquired, FrameLoop, FrameState, XrError};
@@ -126,5 +127,29 @@ impl FrameLoop for ActivityFrameLoop {
 
     fn haptic_tick(&mut self, hand: usize) {
         self.xr.haptic_tick(hand);
+    }
+
+    fn panel_pixels_per_point(&self) -> Option<f32> {
+        self.xr.panel_pixels_per_point()
+    }
+
+    fn panel_draws_cursor(&self) -> bool {
+        self.xr.panel_draws_cursor()
+    }
+
+    fn show_panel(&mut self, panel: &mut Panel) -> Result<(), XrError> {
+        self.xr.show_panel(panel)
+    }
+
+    fn panel_haptic(&mut self) {
+        self.xr.panel_haptic();
+    }
+
+    fn set_comfort(&mut self, comfort: Comfort) {
+        self.xr.set_comfort(comfort);
+    }
+
+    fn request_quit(&mut self) -> bool {
+        self.xr.request_quit()
     }
 }

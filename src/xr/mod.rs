@@ -199,6 +199,13 @@ pub trait FrameLoop {
     /// without controllers ignore it.
     fn panel_haptic(&mut self) {}
 
+    /// The user asked to quit (the panel's button). Returns true when the backend ends the
+    /// session itself (OpenXR: `xrRequestExitSession`, then [`FrameLoop::begin_frame`]
+    /// returns `None` once the runtime has stopped it); false: the app stops after this frame.
+    fn request_quit(&mut self) -> bool {
+        false
+    }
+
     /// The user's comfort options changed (the panel): snap-turn angle, smooth turning, deck
     /// height, seated. Backends without locomotion ignore them.
     fn set_comfort(&mut self, _comfort: Comfort) {}

@@ -94,7 +94,13 @@ fn sea(ui: &mut egui::Ui, m: &mut PanelModel, widgets: &mut Widgets) {
                 continue;
             };
             let on = now == Some(force);
-            let button = ui.add_sized([30.0, 26.0], egui::Button::selectable(on, format!("{n}")));
+            let button = ui
+                .add_sized([30.0, 26.0], egui::Button::selectable(on, format!("{n}")))
+                .on_hover_text(format!(
+                    "Beaufort {n}: {}, {:.0} m/s",
+                    force.force().name,
+                    force.wind_speed()
+                ));
             widgets.beaufort[n as usize] = corners(button.rect);
             if button.clicked() {
                 m.wind_speed = force.wind_speed();

@@ -571,6 +571,11 @@ impl FrameLoop for OpenXr {
         self.panel_tick();
     }
 
+    fn request_quit(&mut self) -> bool {
+        self.request_exit();
+        true
+    }
+
     fn set_comfort(&mut self, c: crate::ui::panel::Comfort) {
         let deck_raise = c.deck_height_m - self.options.deck_height;
         self.locomotion

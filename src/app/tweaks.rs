@@ -1,0 +1,115 @@
+//! The user's live changes in the frame loop: the window's keys, the controllers' buttons and
+//! a camera path's scripted events ([`Tweak`]s), applied at the frame start: waves (through
+//! [`live::apply_wave_tweak`]), the sun, a thrown crate, a launched boat, a quality preset
+//! (which rebuilds the LOD and the renderer; the GPU governor's LOD step uses the same).
+
+use super::{live, AppError, Frames};
+use crate::lod::{LodSettings, OceanLod, OceanSize, QualityPreset};
+use crate::render::OceanRenderer;
+use crate::xr::{FrameState, Tweak};
+
+impl Frames<'_> {
+    /// Applies `frame`'s tweaks, first to last.
+    pub(super) fn apply_tweaks(&mut self, frame: &FrameState) -> Result<(), AppError> {
+        for &tweak in frame.tweaks.iter().flatten() {
+            match tweak {
+                Tweak::Preset(p) => self.user_preset(p)?,
+                Tweak::Throw => self.throw(frame),
+                Tweak::LaunchBoat(speed) => self.launch_boat(frame, speed),
+                Tweak::Sun { elevation, azimuth } => self.move_sun(elevation, azimuth)?,
+                t => live::apply_wave_tweak(&mut self.sim, t),
+            }
+        }
+        Ok(())
+    }
+
+    /// Moves the sun by the given degrees (the window's time-of-day keys); a sun out of range
+    /// (below −10° or above 90°) is refused with a log line and the sky stays.
+    fn move_sun(&mut self, elevation: f32, azimuth: f32) -> Result<(), AppError> {
+        let mut sun = self.renderer.settings().sun;
+        sun.elevation_deg += elevation;
+        sun.azimuth_deg = (sun.azimuth_deg + azimuth).rem_euclid(360.0);
+        if let Err(e) = sun.validate() {
+            log::warn!("sun change refused: {e}");
+            return Ok(());
+        }
+        self.renderer.set_sun(self.xr.gpu(), sun)?;
+        log::info!(
+            "sun: {:.0}° high, azimuth {:.0}°",
+            sun.elevation_deg,
+            sun.azimuth_deg
+        );
+        Ok(())
+    }
+
+    /// Throws a crate along the view (the window's throw key); a throw that cannot be placed
+    /// (a body in the way) is only logged.
+    fn throw(&mut self, frame: &FrameState) {
+        match self.afloat.as_mut() {
+            Some(afloat) => {
+                if let Err(e) = afloat.throw(frame) {
+                    log::warn!("throw: {e}");
+                }
+            }
+            None => log::info!("no floating bodies in this run: nothing to throw"),
+        }
+    }
+
+    /// Launches a boat ahead along the view (a camera path's `boat`); one that cannot be
+    /// placed is only logged.
+    fn launch_boat(&mut self, frame: &FrameState, speed: f32) {
+        let launched = self.afloat.as_mut().and_then(|a| a.world_mut()).map(|w| {
+            let head = (frame.views[0].position + frame.views[1].position) * 0.5;
+            w.launch_boat(head, frame.views[0].orientation * glam::Vec3::NEG_Z, speed)
+        });
+        match launched {
+            Some(Err(e)) => log::warn!("boat: {e}"),
+            None => log::info!("no floating bodies in this run yet: no boat launched"),
+            Some(Ok(_)) => {}
+        }
+    }
+
+    /// Rebuilds the LOD and the renderer for `preset` (same ocean size). Waits for the GPU first:
+    /// a user's switch, not the steady state.
+    pub(super) fn switch_preset(&mut self, preset: QualityPreset) -> Result<(), AppError> {
+        let (xr, sim, lod, renderer) =
+            (&mut *self.xr, &self.sim, &mut self.lod, &mut self.renderer);
+        if lod.settings().preset() == preset {
+            log::info!("quality preset is already {}", preset.name());
+            return Ok(());
+        }
+        let size = OceanSize::new(lod.settings().size())?;
+        let new_lod = OceanLod::new(LodSettings::new(preset, size));
+        xr.gpu().wait_idle();
+        let new_renderer = OceanRenderer::new(
+            xr.gpu(),
+            sim.config(),
+            &new_lod,
+            xr.targets(),
+            *renderer.settings(),
+        )?;
+        let mut old = std::mem::replace(renderer, new_renderer);
+        old.destroy(xr.gpu());
+        *lod = new_lod;
+        log::info!("quality preset: {}", preset.name());
+        // The new renderer draws the whole image with the user's settings: the governor's
+        // level goes back on.
+        if let Some(g) = self.governed.as_ref() {
+            g.apply(g.level(), &mut self.renderer, &mut *self.xr)?;
+        }
+        Ok(())
+    }
+
+    /// The user chose `preset` (window key, controller): the governor's LOD step, if taken,
+    /// applies below it.
+    fn user_preset(&mut self, preset: QualityPreset) -> Result<(), AppError> {
+        match self.governed.as_mut() {
+            Some(g) => {
+                g.preset = preset;
+                let p = g.preset_for(g.level());
+                self.switch_preset(p)
+            }
+            None => self.switch_preset(preset),
+        }
+    }
+}
