@@ -14,8 +14,9 @@ use super::error::Call;
 use super::panel_aim::{AimFrame, AimPointer, HandAim, PanelQuad};
 use super::{backend, OpenXr, LOCAL_EYE_HEIGHT};
 use crate::render::barrier::Access;
+use crate::render::memory;
 use crate::render::panel::{PanelCanvas, PanelTarget};
-use crate::render::{GpuContext, RenderError};
+use crate::render::GpuContext;
 use crate::ui::panel::Panel;
 use crate::xr::XrError;
 
@@ -206,7 +207,10 @@ impl OpenXr {
             extent,
         };
         for raw in images {
-            match image_view(ctx, vk::Image::from_raw(raw), format) {
+            let image = vk::Image::from_raw(raw);
+            let colour = vk::ImageAspectFlags::COLOR;
+            // The view is destroyed before the swapchain (`QuadPanel::destroy`).
+            match memory::create_view(ctx, image, format, colour, 0, 1, 1) {
                 Ok(v) => made.views.push(v),
                 Err(e) => {
                     for v in made.views.drain(..) {
@@ -228,28 +232,4 @@ impl OpenXr {
         }
         Ok(made)
     }
-}
-
-/// A 2D colour view of a swapchain image.
-fn image_view(
-    ctx: &GpuContext,
-    image: vk::Image,
-    format: vk::Format,
-) -> Result<vk::ImageView, RenderError> {
-    let info = vk::ImageViewCreateInfo::default()
-        .image(image)
-        .view_type(vk::ImageViewType::TYPE_2D)
-        .format(format)
-        .subresource_range(vk::ImageSubresourceRange {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            base_mip_level: 0,
-            level_count: 1,
-            base_array_layer: 0,
-            layer_count: 1,
-        });
-    // SAFETY: the image is the runtime's, made on this device; the view is destroyed before
-    // the swapchain.
-    ctx.create("vkCreateImageView", || unsafe {
-        ctx.device.create_image_view(&info, None)
-    })
 }
