@@ -51,6 +51,8 @@ layout(set = 0, binding = 0, std140) uniform Globals {
     vec4 interaction;
     // x, y: the distances (m) where the layer's displacement of the mesh starts and ends fading.
     vec4 interaction_fade;
+    // x, z: unit direction the wind blows toward; z: 1 / the foam pattern's stretch along it.
+    vec4 foam_streak;
 } g;
 
 // The interaction layer (`render::ocean::interaction`): h (m), ∂h/∂x, ∂h/∂z, foam; clamped,

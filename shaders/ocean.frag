@@ -218,17 +218,26 @@ mediump float share_threshold(mediump float c) {
 // rising coverage eats into the pattern (flecks, then a web, then a sheet with holes); where
 // the footprint (`dx`, `dy`) outgrows the pattern's cells, the coverage itself.
 mediump float drawn_foam(vec2 xz, vec2 dx, vec2 dy, mediump float c) {
-    vec2 large = xz / FOAM_TILE_LARGE;
-    vec2 small = FOAM_TURN * xz / FOAM_TILE_SMALL + 0.37;
-    mediump float u1 = textureGrad(u_foam_pattern, vec3(large, 0.0), dx / FOAM_TILE_LARGE,
-                                   dy / FOAM_TILE_LARGE).r;
+    // Both scales in the wind's frame, squeezed along it (`g.foam_streak`): in a strong wind
+    // the cells are drawn out into streaks (Beaufort 7-9: "foam blown in streaks along the
+    // direction of the wind").
+    vec2 along = g.foam_streak.xy;
+    mat2 streak = mat2(g.foam_streak.z, 0.0, 0.0, 1.0)
+        * mat2(along.x, -along.y, along.y, along.x);
+    vec2 w = streak * xz;
+    vec2 wdx = streak * dx;
+    vec2 wdy = streak * dy;
+    vec2 large = w / FOAM_TILE_LARGE;
+    vec2 small = FOAM_TURN * w / FOAM_TILE_SMALL + 0.37;
+    mediump float u1 = textureGrad(u_foam_pattern, vec3(large, 0.0), wdx / FOAM_TILE_LARGE,
+                                   wdy / FOAM_TILE_LARGE).r;
     mediump float u2 = textureGrad(u_foam_pattern, vec3(small, 0.0),
-                                   FOAM_TURN * dx / FOAM_TILE_SMALL,
-                                   FOAM_TURN * dy / FOAM_TILE_SMALL).r;
+                                   FOAM_TURN * wdx / FOAM_TILE_SMALL,
+                                   FOAM_TURN * wdy / FOAM_TILE_SMALL).r;
     mediump float n = FOAM_WEIGHT_LARGE * u1 + (1.0 - FOAM_WEIGHT_LARGE) * u2;
     mediump float t = share_threshold(clamp(c, 0.0, 1.0));
     mediump float sharp = smoothstep(t - FOAM_EDGE, t + FOAM_EDGE, n) * smoothstep(0.0, 0.005, c);
-    float texels = max(length(dx), length(dy)) * (256.0 / FOAM_TILE_LARGE);
+    float texels = max(length(wdx), length(wdy)) * (256.0 / FOAM_TILE_LARGE);
     mediump float far = smoothstep(FOAM_FADE_FROM_LOD, FOAM_FADE_TO_LOD,
                                    log2(max(texels, 1e-6)));
     return mix(sharp, c, far);

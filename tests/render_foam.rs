@@ -196,3 +196,75 @@ fn foam_edges_are_soft() {
         100.0 * share
     );
 }
+
+/// Mean length (pixels) of the runs of `mask` along image rows (`along_rows`) or columns, both
+/// eyes of a `w`×`h` image.
+fn mean_run(mask: &[bool], w: u32, h: u32, along_rows: bool) -> f64 {
+    let (mut total, mut runs) = (0usize, 0usize);
+    let (outer, inner) = if along_rows { (h, w) } else { (w, h) };
+    for eye in 0..2 {
+        for o in 0..outer {
+            let mut run = 0;
+            for i in 0..=inner {
+                let on = i < inner && {
+                    let (x, y) = if along_rows { (i, o) } else { (o, i) };
+                    mask[(eye * w * h + y * w + x) as usize]
+                };
+                if on {
+                    run += 1;
+                } else if run > 0 {
+                    total += run;
+                    runs += 1;
+                    run = 0;
+                }
+            }
+        }
+    }
+    total as f64 / runs.max(1) as f64
+}
+
+/// Issue 29, item 4: in a gale the foam is drawn out into streaks along the wind. Straight
+/// down at 20 m/s blowing toward +x (along the image's rows): the foamed pixels' runs along the
+/// wind over those across it, with the streaks against without (the same sea, the same
+/// coverage); without, the pattern's cells are round and the ratio is the coverage's own.
+#[test]
+fn gale_foam_is_streaked_along_the_wind() {
+    let path = gpu::standing(HEIGHT, 0.0, -89.0);
+    let shot = |whitecaps: bool, streaks: bool| {
+        let mut opts = gpu::small_options(StereoMode::TwoPass, vec![SKIP + FRAMES - 1]);
+        opts.ocean = sea(20.0);
+        opts.renderer.whitecaps = whitecaps;
+        opts.renderer.foam_streaks = streaks;
+        let (_, mut f) = gpu::render_after(&opts, path.clone(), SKIP, FRAMES, SIZE, SIZE);
+        f.remove(0)
+    };
+    let bare = shot(false, true);
+    let mut ratios = Vec::new();
+    for streaks in [true, false] {
+        let f = shot(true, streaks);
+        if std::env::var_os("VR_OCEAN_SAVE_FRAMES").is_some() {
+            eprintln!(
+                "saved {}",
+                f.save(&format!("foam-streaks-{streaks}")).display()
+            );
+        }
+        let gains: Vec<i32> = gains(&f, &bare);
+        let mut sorted: Vec<i32> = gains.iter().copied().filter(|&g| g > 30).collect();
+        sorted.sort_unstable();
+        let white = sorted[sorted.len() * 99 / 100] as f64;
+        let mask: Vec<bool> = gains.iter().map(|&g| g as f64 >= 0.3 * white).collect();
+        let along = mean_run(&mask, SIZE, SIZE, true);
+        let across = mean_run(&mask, SIZE, SIZE, false);
+        println!(
+            "streaks {streaks}: foamed runs {along:.1} px along the wind, {across:.1} across \
+             ({} foamed pixels)",
+            mask.iter().filter(|&&m| m).count()
+        );
+        ratios.push(along / across);
+    }
+    let (on, off) = (ratios[0], ratios[1]);
+    assert!(
+        on > 1.5 * off,
+        "along/across with streaks {on:.2}, without {off:.2}"
+    );
+}

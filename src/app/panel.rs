@@ -1,16 +1,16 @@
 //! The control panel in the frame loop (issue 31): the one [`Panel`] both front ends show.
 //! Each frame the backend's pointer events go in, the panel runs (only when something it
 //! shows changed), and what the user changed is applied: the wind through the simulation's
-//! smooth sea-state change, the sun and clouds through the renderer's sky, comfort through
-//! the backend (turning, seated) and the bodies' world (the deck's height), the buttons
-//! (spawn, reset, quit) here. The panel is built from the running
-//! state every frame, so it always shows what is, whoever changed it (a key, a controller).
+//! smooth sea-state change, the sun and clouds through the renderer's sky, comfort through the
+//! backend (turning, seated) and the bodies' world (the deck's height), the buttons (spawn,
+//! reset, quit) here. The panel is built from the running state every frame, so it always
+//! shows what is, whoever changed it (a key, a controller).
 //!
-//! A slider dragged across many frames would restart the sea-state build, rebuild the sky or
-//! the bodies' world every frame: those changes go out at most every [`APPLY_EVERY`] seconds, the last
-//! value always. The performance line moves every [`PERF_EVERY`] seconds, so an open panel
-//! nobody touches is redrawn (and allocates, in egui) only then. Times are the frames' display
-//! clock.
+//! A slider dragged across many frames would restart the sea-state build, rebake the sky or
+//! remake the bodies' world every frame: those changes go out at most every [`APPLY_EVERY`]
+//! seconds, the last value always. The performance line moves every [`PERF_EVERY`] seconds,
+//! so an open panel nobody touches is redrawn (and allocates, in egui) only then. Times are
+//! the frames' display clock.
 
 use super::{AppError, Frames};
 use crate::render::sky::SunSky;
@@ -18,7 +18,7 @@ use crate::sim::WaveParams;
 use crate::ui::panel::{Comfort, Panel, PanelModel, PanelUpdate, Perf};
 use crate::xr::{FrameLoop, FrameState};
 
-/// Shortest time between two applications of a dragged wind or sky (s).
+/// Shortest time between two applications of a dragged wind, sky or deck height (s).
 pub const APPLY_EVERY: f64 = 0.25;
 
 /// How often the performance line takes the recent frames' medians (s).
@@ -35,7 +35,7 @@ pub(super) struct PanelHost {
     waves: Option<WaveParams>,
     sun: Option<SunSky>,
     deck: Option<f32>,
-    /// When waves or sky were last applied (display time, s).
+    /// When waves, sky or deck were last applied (display time, s).
     applied_at: f64,
 }
 
@@ -126,7 +126,8 @@ impl Frames<'_> {
             if let Some(sun) = host.sun.take() {
                 self.renderer.set_sun(self.xr.gpu(), sun)?;
             }
-            if let (Some(h), Some(afloat)) = (host.deck.take(), self.afloat.as_mut()) {
+            let deck = host.deck.take();
+            if let (Some(h), Some(afloat)) = (deck, self.afloat.as_mut()) {
                 match afloat.move_deck(h) {
                     Ok(()) => log::info!("panel: deck {h:.1} m above the sea"),
                     Err(e) => log::warn!("panel: deck change refused: {e}"),

@@ -82,6 +82,9 @@ pub struct Globals {
     /// The distances (m) where the layer's displacement of the mesh starts and ends fading
     /// (x, y), as a cascade's (its waves would alias on the coarser mesh beyond).
     pub interaction_fade: [f32; 4],
+    /// Foam streaks: the unit direction (x, z) the wind blows toward, and 1 / the foam
+    /// pattern's stretch along it (z; 1: round cells, no streaks).
+    pub foam_streak: [f32; 4],
 }
 
 impl Globals {

@@ -333,6 +333,12 @@ impl WaveParams {
         }
     }
 
+    /// The unit direction (x, z) the wind blows toward.
+    pub fn toward(&self) -> [f32; 2] {
+        let a = self.wind_direction_deg.to_radians();
+        [a.cos(), a.sin()]
+    }
+
     /// Checks every field; see [`OceanConfig::validate`].
     pub fn validate(&self) -> Result<(), ParamError> {
         positive("wind", self.wind_speed, "a finite wind speed > 0 (m/s)")?;

@@ -31,6 +31,9 @@ pub struct Surfaces {
     /// Expected significant wave height 4·√(Σ variance) (m) of all cascades: the renderer
     /// tells crests from troughs by height over it.
     pub significant_height: f32,
+    /// The wind at 10 m the shown sea stands for (m/s; during a sea-state change, the blend's)
+    /// and the unit direction (x, z) it blows toward: the renderer streaks foam along it.
+    pub wind: (f32, [f32; 2]),
 }
 
 impl Surfaces {
@@ -56,6 +59,7 @@ impl Surfaces {
             base_normal_length: 1.0,
             whitecaps: Whitecaps::default(),
             significant_height: 0.0,
+            wind: (0.0, [1.0, 0.0]),
         }
     }
 
@@ -286,6 +290,7 @@ impl SimCore {
             .map(|c| c.spectrum.expected_variance)
             .sum();
         out.significant_height = 4.0 * variance.sqrt() as f32;
+        out.wind = (wind, waves.toward());
         let mut times = StageTimes::default();
         for (c, surface) in self.cascades.iter_mut().zip(&mut out.cascades) {
             let at = StepAt { t, phase, params };

@@ -68,6 +68,24 @@ pub use solids::{Shape, Solid, SolidInstance, SolidKind, SolidVertex, MAX_SOLIDS
 /// The most cascades the shaders read (a `vec4` of patch sizes).
 pub const MAX_CASCADES: usize = 4;
 
+/// Wind (m/s) from which foam is drawn out along the wind: Beaufort 6's top (12 m/s); the
+/// scale's force 7 (14 m/s) is where "foam begins to be blown in streaks".
+pub const STREAKS_FROM: f32 = 12.0;
+
+/// Wind (m/s) at which the streaks are longest: a gale (Beaufort 8-9, "well-marked streaks").
+pub const STREAKS_FULL: f32 = 22.0;
+
+/// How much longer than wide the foam pattern's cells are drawn along the wind at
+/// [`STREAKS_FULL`].
+pub const MAX_STREAK_STRETCH: f32 = 4.0;
+
+/// The foam pattern's stretch along a wind of `wind` m/s: 1 (round cells) up to
+/// [`STREAKS_FROM`], rising linearly to [`MAX_STREAK_STRETCH`] at [`STREAKS_FULL`].
+pub fn foam_streak_stretch(wind: f32) -> f32 {
+    let t = ((wind - STREAKS_FROM) / (STREAKS_FULL - STREAKS_FROM)).clamp(0.0, 1.0);
+    1.0 + (MAX_STREAK_STRETCH - 1.0) * t
+}
+
 /// Renderer settings fixed at creation (the specular AA can be switched later).
 #[derive(Clone, Copy, Debug)]
 pub struct RendererSettings {
@@ -82,6 +100,9 @@ pub struct RendererSettings {
     /// Whitecaps: foam where the simulation's whole-surface coverage
     /// ([`crate::sim::whitecaps`]) says the sea breaks. Off for comparisons only.
     pub whitecaps: bool,
+    /// Foam drawn out into streaks along a strong wind ([`foam_streak_stretch`]). Off for
+    /// comparisons only.
+    pub foam_streaks: bool,
     /// Frames the CPU may record ahead of the GPU (≥ 2); also the staging ring's slot count.
     pub frames_in_flight: usize,
     /// The sun, the air and the clouds: the sky drawn, reflected and fogged with, the sun's light
@@ -125,6 +146,7 @@ impl Default for RendererSettings {
             msaa: Msaa::X4,
             specular_aa: true,
             whitecaps: true,
+            foam_streaks: true,
             frames_in_flight: 2,
             sun: default_sun(),
             fog_distance: 4000.0,

@@ -100,6 +100,13 @@ impl PassConstants {
             let [[start, ..], [end, ..]] = cascade_fades(&self.lod, &[side]);
             g.interaction_fade = [start, end, 0.0, 0.0];
         }
+        let (wind, toward) = input.surfaces.wind;
+        let stretch = if settings.foam_streaks {
+            super::foam_streak_stretch(wind)
+        } else {
+            1.0
+        };
+        g.foam_streak = [toward[0], toward[1], 1.0 / stretch, 0.0];
         g.params = [
             self.cascades as f32,
             self.grid as f32,
