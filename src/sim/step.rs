@@ -31,8 +31,8 @@ pub struct Surfaces {
     /// Expected significant wave height 4·√(Σ variance) (m) of all cascades: the renderer
     /// tells crests from troughs by height over it.
     pub significant_height: f32,
-    /// The wind at 10 m the shown sea stands for (m/s; during a sea-state change, the blend's)
-    /// and the unit direction (x, z) it blows toward: the renderer streaks foam along it.
+    /// The shown sea's wind at 10 m (m/s; a change's blend) and the unit direction (x, z) the
+    /// set waves' wind blows toward (a new one at once): the renderer streaks foam along it.
     pub wind: (f32, [f32; 2]),
 }
 
