@@ -256,11 +256,13 @@ mediump float bubbles_under(vec2 xz, mediump vec3 v, mediump vec3 n, vec2 dx, ve
     return smoothstep(1.0 - share - 0.1, 1.0 - share + 0.1, u) * smoothstep(0.0, 0.005, c);
 }
 
-// The averaged normal's length a smoothness encodes: eq. 53 inverted.
-mediump float normal_length(mediump float smoothness) {
-    mediump float r = (1.0 - smoothness) * (1.0 - smoothness);
-    mediump float t = (-0.85 + sqrt(0.7225 + 0.6 * (1.0 - r))) * (1.0 / 0.3);
-    return (clamp(t, 0.0, 1.0) + 2.0) / 3.0;
+// The slope variance (1 − |n|)/|n| of an averaged normal (Toksvig) whose length smoothness `s`
+// encodes (eq. 53 inverted): u²·p(u), u = 1 − s, a fit within 0.6 % of the exact form
+// (`sim::pack::TOKSVIG_FIT`), which would cost a square root and a division per texel.
+mediump float toksvig_variance(mediump float s) {
+    mediump float u = 1.0 - s;
+    mediump float p = 0.29176 + u * (-0.03476 + u * (0.30023 + u * (-0.36776 + u * 0.30845)));
+    return u * u * p;
 }
 
 // One cascade's normal-map texel decoded: its slope (n.xz / n.y), foam (eq. 51), smoothness
@@ -279,8 +281,7 @@ CascadeSample decode_cascade(mediump vec4 t) {
     s.slope = nxz * inversesqrt(max(1.0 - dot(nxz, nxz), 0.05));
     s.foam = t.b;
     s.smoothness = t.a;
-    mediump float len = normal_length(t.a);
-    s.filtered = max(1.0 / len - 1.0 - g.specular_aa.z, 0.0);
+    s.filtered = max(toksvig_variance(t.a) - g.specular_aa.z, 0.0);
     return s;
 }
 
@@ -333,14 +334,36 @@ struct Foam {
     mediump float bubbles;
 };
 
+// A shading sample's GGX lobe: α² (full precision: the sun's highlight), α, and √α, the
+// roughness the sky map's levels are prefiltered for. One square root each, shared by the
+// sky's lookup, the mean Fresnel and the highlight.
+struct Lobe {
+    float a2;
+    float alpha;
+    mediump float rough;
+};
+
+Lobe lobe_of(float a2) {
+    Lobe l;
+    l.a2 = a2;
+    l.alpha = sqrt(a2);
+    l.rough = sqrt(l.alpha);
+    return l;
+}
+
 // Reflectance of water averaged over the slopes the normal does not show, a Gaussian of
 // standard deviation σ_v along the view (Bruneton, Neyret & Holzschuch 2010, their fit): at
 // grazing views the slopes turn facets toward the eye, so a rough sea reflects less of the sky
-// than Schlick's flat-surface value. σ_v² = α²/2 for the isotropic lobe of GGX α² `a2`.
-mediump float mean_fresnel(mediump float ndotv, mediump float a2) {
-    mediump float sigma_v = sqrt(0.5 * a2);
-    mediump float f = pow(1.0 - ndotv, 5.0 * exp(-2.69 * sigma_v))
-        / (1.0 + 22.7 * sigma_v * sqrt(sigma_v));
+// than Schlick's flat-surface value. σ_v² = α²/2 for the isotropic lobe of GGX α² `a2`, so
+// σ_v = α/√2 and σ_v^1.5 = 2^-0.75 α √α; exp(−2.69 σ_v) on σ_v ∈ [0, 1/√2] as a cubic (within
+// 2 % of it, in an exponent): one division and the power's two operations are all it takes of
+// the special-function unit.
+mediump float mean_fresnel(mediump float ndotv, Lobe l) {
+    mediump float sigma_v = 0.70710678 * l.alpha;
+    mediump float e = 0.99651359 + sigma_v * (-2.58551814 + sigma_v * (2.88795488
+        + sigma_v * -1.31754012));
+    mediump float f = pow(1.0 - ndotv, 5.0 * e)
+        / (1.0 + 22.7 * 0.59460356 * l.alpha * l.rough);
     return WATER_F0 + (1.0 - WATER_F0) * f;
 }
 
@@ -379,17 +402,17 @@ SunView sun_view(vec3 v) {
     return s;
 }
 
-// The sun's highlight on normal `n` for GGX α² `a2`, per unit of the sun's illuminance: GGX D,
-// Schlick F at the half vector, height-correlated Smith visibility.
-float sun_highlight(vec3 n, SunView s, float a2) {
+// The sun's highlight on normal `n` for lobe `l`, per unit of the sun's illuminance: GGX D,
+// Schlick F at the half vector, and the height-correlated Smith visibility in Hammon's form
+// (GDC 2017: 0.5 / lerp(2 (n·l)(n·v), n·l + n·v, α), within a few percent of the exact one,
+// without its two square roots). D · Vis in one division: α² / (π dd²) · Vis.
+float sun_highlight(vec3 n, SunView s, Lobe l) {
     float ndotv = max(dot(n, s.v), 1e-3);
     float ndoth = max(dot(n, s.hv), 0.0);
     float ndotl = max(dot(n, g.sun.xyz), 0.0);
-    float dd = ndoth * ndoth * (a2 - 1.0) + 1.0;
-    float vis = 0.5 / (ndotl * sqrt(ndotv * ndotv * (1.0 - a2) + a2)
-                       + ndotv * sqrt(ndotl * ndotl * (1.0 - a2) + a2) + 1e-6);
-    // D · Vis in one division: a2 / (π dd²) · vis.
-    return a2 * vis * s.fresnel * ndotl / (PI * dd * dd);
+    float dd = ndoth * ndoth * (l.a2 - 1.0) + 1.0;
+    float smith = mix(2.0 * ndotl * ndotv, ndotl + ndotv, l.alpha);
+    return l.a2 * s.fresnel * ndotl * (0.5 / PI) / (dd * dd * smith + 1e-9);
 }
 
 // The light of the water body toward the eye along `v` at height `height` (m above the mean
@@ -424,20 +447,20 @@ mediump vec3 water_body(vec3 n_full, Foam f, vec3 v_full, float height) {
 }
 
 // `surface_light` with the sky's reflected radiance `reflected` given.
-vec3 surface_over(vec3 n, mediump vec3 body, mediump vec3 reflected, SunView sv, float a2) {
-    mediump float fresnel = mean_fresnel(max(dot(n, sv.v), 1e-3), a2);
+vec3 surface_over(vec3 n, mediump vec3 body, mediump vec3 reflected, SunView sv, Lobe l) {
+    mediump float fresnel = mean_fresnel(max(dot(n, sv.v), 1e-3), l);
     mediump vec3 over = mix(body, reflected, fresnel);
-    return over + g.sun_illuminance.rgb * sun_highlight(n, sv, a2);
+    return over + g.sun_illuminance.rgb * sun_highlight(n, sv, l);
 }
 
-// The water's surface over its `body` light, seen along `v` with normal `n` and GGX α² `a2`:
+// The water's surface over its `body` light, seen along `v` with normal `n` and lobe `l`:
 // the sky reflected (from the map level prefiltered for this roughness, the ray kept above the
 // horizon) over the body, weighted by the mean Fresnel; and the sun's highlight. The terms
 // that change fast with the normal: supersampled where the cascades are minified.
-vec3 surface_light(vec3 n, mediump vec3 body, SunView sv, float a2) {
+vec3 surface_light(vec3 n, mediump vec3 body, SunView sv, Lobe l) {
     vec3 r = reflect(-sv.v, n);
     r.y = abs(r.y);
-    return surface_over(n, body, sky_env(r, sqrt(sqrt(a2))), sv, a2);
+    return surface_over(n, body, sky_env(r, l.rough), sv, l);
 }
 
 // Foam: a diffuse white layer over the share of the pixel it covers.
@@ -447,14 +470,13 @@ vec3 with_foam(vec3 colour, Foam f) {
 
 // The surface's light over the pixel's `body` and `reflected` sky, averaged over the pixel's
 // `own` and the sub-pixel positions: cascades whose texels are under a pixel (`resample`) are
-// sampled again there with a third of the pixel's footprint (`hx`, `hy`), the others keep the
+// sampled again there from the mips of a third of the pixel's footprint (the finest cascade's
+// level `sub_lod`; an explicit level costs less than explicit gradients), the others keep the
 // pixel's sample `p`. `unshown`: the slope variance every sub-sample adds to its filtered one
 // (unresolved waves, the footprint's normal change).
 vec3 supersampled_surface(PixelCascades p, int cascades, bool resample[MAX_CASCADES], vec2 dx,
-                          vec2 dy, mediump vec3 body, mediump vec3 reflected, vec3 own,
-                          SunView sv, float unshown, mediump float coverage) {
-    vec2 hx = dx * (1.0 / 3.0);
-    vec2 hy = dy * (1.0 / 3.0);
+                          vec2 dy, float sub_lod, mediump vec3 body, mediump vec3 reflected,
+                          vec3 own, SunView sv, float unshown, mediump float coverage) {
     mediump vec2 pixel_slope = p.layer_slope;
     UNROLL for (int c = 0; c < MAX_CASCADES; ++c) {
         if (c < cascades) {
@@ -472,10 +494,9 @@ vec3 supersampled_surface(PixelCascades p, int cascades, bool resample[MAX_CASCA
             if (c < cascades) {
                 CascadeSample s = p.c[c];
                 if (resample[c]) {
-                    float inv_size = g.inv_patch_size[c];
-                    mediump vec4 t = textureGrad(u_normal_foam,
-                                         vec3(xz * inv_size + half_texel, float(c)),
-                                         hx * inv_size, hy * inv_size);
+                    vec2 uv = xz * g.inv_patch_size[c] + half_texel;
+                    mediump vec4 t = textureLod(u_normal_foam, vec3(uv, float(c)),
+                                                sub_lod - g.lod_offset[c]);
                     s = decode_cascade(t);
                     slope += s.slope - p.c[c].slope;
                 }
@@ -485,8 +506,8 @@ vec3 supersampled_surface(PixelCascades p, int cascades, bool resample[MAX_CASCA
         }
         highp vec3 up = vec3(slope.x, 1.0, slope.y);
         vec3 n = normalize(up);
-        float a2 = sample_a2(smoothness, filtered + unshown, coverage);
-        sum += surface_over(n, body, reflected, sv, a2);
+        Lobe l = lobe_of(sample_a2(smoothness, filtered + unshown, coverage));
+        sum += surface_over(n, body, reflected, sv, l);
     }
     return sum * (1.0 / float(SUBSAMPLE_COUNT + 1));
 }
@@ -505,8 +526,11 @@ void main() {
         return;
     }
     vec3 view = v_eye - v_world;
-    float dist = length(view);
-    vec3 v = view / max(dist, 1e-4);
+    // One reciprocal square root for the view's direction and length.
+    float view2 = max(dot(view, view), 1e-8);
+    float inv_dist = inversesqrt(view2);
+    float dist = view2 * inv_dist;
+    vec3 v = view * inv_dist;
     vec2 dx = dFdx(v_xz);
     vec2 dy = dFdy(v_xz);
 
@@ -528,7 +552,8 @@ void main() {
     mediump vec3 dndx = dFdx(w.n);
     mediump vec3 dndy = dFdy(w.n);
     vec2 finest_uv = v_xz * g.inv_patch_size[cascades - 1] + half_texel;
-    float lod = textureQueryLod(u_normal_foam, finest_uv).x;
+    // The finest cascade's level of detail (unclamped: the sub-samples' levels derive from it).
+    float lod = textureQueryLod(u_normal_foam, finest_uv).y;
 
     // Foam coverage: the whole surface's whitecaps, or each cascade's own foam (eq. 51) when
     // whitecaps are off. Where there is none, the pattern and the bubbles are not looked at
@@ -551,7 +576,7 @@ void main() {
     mediump vec3 body = water_body(w.n, f, v, height);
     if (TAKES_PLAIN(g.specular_aa.y < 0.5)) {
         COUNT(COUNT_PLAIN, 1u);
-        colour = surface_light(w.n, body, sv, sample_a2(w.smoothness, -1.0, f.coverage));
+        colour = surface_light(w.n, body, sv, lobe_of(sample_a2(w.smoothness, -1.0, f.coverage)));
     } else {
         mediump float kernel = min(2.0 * PIXEL_VARIANCE * (dot(dndx, dndx) + dot(dndy, dndy)),
                            MAX_KERNEL_ALPHA2);
@@ -573,17 +598,19 @@ void main() {
             // The sky reflected once, along the pixel's normal from the map level of the
             // pixel's whole footprint: smooth, prefiltered light, whose weight (Fresnel) and
             // the sun's highlight are what change within the pixel.
-            float a2 = sample_a2(w.smoothness, w.filtered + tail + kernel, f.coverage);
+            Lobe l = lobe_of(sample_a2(w.smoothness, w.filtered + tail + kernel, f.coverage));
             vec3 r = reflect(-v, w.n);
             r.y = abs(r.y);
-            mediump vec3 reflected = sky_env(r, sqrt(sqrt(a2)));
-            vec3 own = surface_over(w.n, body, reflected, sv, a2);
-            colour = supersampled_surface(p, cascades, resample, dx, dy, body, reflected, own,
-                                          sv, tail + kernel * (1.0 / 9.0), f.coverage);
+            mediump vec3 reflected = sky_env(r, l.rough);
+            vec3 own = surface_over(w.n, body, reflected, sv, l);
+            // log2(3): a third of the pixel's extent.
+            colour = supersampled_surface(p, cascades, resample, dx, dy, lod - 1.5849625, body,
+                                          reflected, own, sv, tail + kernel * (1.0 / 9.0),
+                                          f.coverage);
         } else {
             COUNT(COUNT_SINGLE, 1u);
-            float a2 = sample_a2(w.smoothness, w.filtered + tail + kernel, f.coverage);
-            colour = surface_light(w.n, body, sv, a2);
+            Lobe l = lobe_of(sample_a2(w.smoothness, w.filtered + tail + kernel, f.coverage));
+            colour = surface_light(w.n, body, sv, l);
         }
     }
     colour = with_foam(colour, f);
