@@ -138,7 +138,10 @@ mod tests {
         for k in 0..=1000 {
             let s = k as f32 / 1000.0;
             let len = normal_length_of(s);
-            assert!((smoothness(len) - s).abs() < 2e-3, "eq. 53 round trip at {s}");
+            assert!(
+                (smoothness(len) - s).abs() < 2e-3,
+                "eq. 53 round trip at {s}"
+            );
             let exact = 1.0 / len - 1.0;
             let fit = toksvig_variance_fit(s);
             assert!(
