@@ -53,6 +53,10 @@ layout(set = 0, binding = 0, std140) uniform Globals {
     vec4 interaction_fade;
     // x, z: unit direction the wind blows toward; z: 1 / the foam pattern's stretch along it.
     vec4 foam_streak;
+    // Detail slopes (`sim::detail`, the foam pattern's G and B): x: 1 / the tile's side (1/m);
+    // y: decoded slope per unit of code (0: off); z: the detail's mip level less the finest
+    // cascade's.
+    vec4 detail;
 } g;
 
 // The interaction layer (`render::ocean::interaction`): h (m), ∂h/∂x, ∂h/∂z, foam; clamped,

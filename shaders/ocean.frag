@@ -57,6 +57,7 @@
 #define TAKES_PLAIN(cond) (COST_PATH == 5)
 #define TAKES_SUPERSAMPLING(cond) (COST_PATH == 3)
 #define TAKES_FOAM(cond) (COST_PATH == 4)
+#define TAKES_DETAIL(cond) (COST_PATH == 6)
 #define RESAMPLES(c, cond) ((c) >= COST_CASCADES - COST_RESAMPLED)
 #else
 #define UNROLL_SUBSAMPLES [[dont_unroll]]
@@ -65,6 +66,7 @@
 #define TAKES_PLAIN(cond) (cond)
 #define TAKES_SUPERSAMPLING(cond) (cond)
 #define TAKES_FOAM(cond) (cond)
+#define TAKES_DETAIL(cond) (cond)
 #define RESAMPLES(c, cond) (cond)
 #endif
 // Under fixed foveation (a fragment density map, `FRAGMENT_DENSITY`), a peripheral fragment
@@ -83,6 +85,7 @@ const uint COUNT_SUPERSAMPLED = 2u;
 const uint COUNT_FOAM = 3u;
 const uint COUNT_PLAIN = 4u;
 const uint COUNT_RESAMPLES = 5u;
+const uint COUNT_DETAIL = 6u;
 #ifdef COUNT_PATHS
 // A shader with side effects would otherwise run before the depth test: keep it where the
 // real one runs (it writes no depth and discards nothing, so early tests change no image).
@@ -241,6 +244,44 @@ mediump float drawn_foam(vec2 xz, vec2 dx, vec2 dy, mediump float c) {
     mediump float far = smoothstep(FOAM_FADE_FROM_LOD, FOAM_FADE_TO_LOD,
                                    log2(max(texels, 1e-6)));
     return mix(sharp, c, far);
+}
+
+// Detail near the viewer (issue 29, item 2): the waves shorter than the finest cascade
+// (`sim::detail`: 12.6 cm down to the 1.7 cm gravity-capillary minimum, unit slope variance,
+// in the foam pattern's G and B), scaled to the sea's unresolved slope deviation (`g.detail.y`).
+// Two layers of the tile, the second turned and 2^0.25 finer, drift at about the band's phase
+// speeds (0.23-0.3 m/s), one along the wind and one across it, so the ripples change as they
+// cross instead of sliding as one picture.
+const float DETAIL_RANGE = 3.0;
+const float DETAIL_SCALE_2 = 1.1892071;
+const mat2 DETAIL_TURN = mat2(-0.5, 0.8660254, -0.8660254, -0.5);
+const float DETAIL_SPEED_1 = 0.25;
+const float DETAIL_SPEED_2 = 0.3;
+// The band spans log2(12.6 / 1.7) = 2.9 octaves of equal slope variance, the shortest wave 4.4
+// of the tile's texels and the longest 32: at the tile's mip level L the waves longer than
+// 2^(L+1) texels remain, a share (5 − (L + 1)) / 2.9 of the variance; none from level 4.
+const float DETAIL_GONE_LOD = 4.0;
+const float DETAIL_OCTAVES = 2.86;
+
+// The detail's slope (n.xz / n.y, as a cascade's) at world `xz`, footprint (`dx`, `dy`).
+mediump vec2 detail_slope(vec2 xz, vec2 dx, vec2 dy) {
+    float t = g.lod_viewer.w;
+    vec2 along = g.foam_streak.xy;
+    vec2 across = vec2(-along.y, along.x);
+    float inv_tile = g.detail.x;
+    vec2 uv1 = xz * inv_tile - along * (DETAIL_SPEED_1 * t * inv_tile);
+    mat2 m2 = DETAIL_TURN * DETAIL_SCALE_2;
+    vec2 uv2 = m2 * (xz * inv_tile) - across * (DETAIL_SPEED_2 * t * inv_tile);
+    mediump vec2 s1 = textureGrad(u_foam_pattern, vec3(uv1, 0.0), dx * inv_tile,
+                                  dy * inv_tile).gb;
+    mediump vec2 s2 = textureGrad(u_foam_pattern, vec3(uv2, 0.0), m2 * dx * inv_tile,
+                                  m2 * dy * inv_tile).gb;
+    // Codes to slopes: ±1 is ±DETAIL_RANGE unit deviations, times the sea's (`g.detail.y`);
+    // the second layer's slope back to the world's frame (its chain rule: transpose(m2)), the
+    // two weighted to keep the variance: 1 + 2^0.5 = 2.41.
+    mediump vec2 slope = (s1 * 2.0 - 1.0) + transpose(m2) * (s2 * 2.0 - 1.0);
+    // −∇h, as the cascades store it.
+    return slope * (-g.detail.y * 0.6435943);
 }
 
 // Bubbles under the surface at `xz` seen along unit `v` through normal `n`: the pattern on a
@@ -542,6 +583,17 @@ void main() {
     PixelCascades p;
     mediump vec4 layer = interaction_at(v_xz);
     p.layer_slope = -layer.yz;
+    // The finest cascade's level of detail (unclamped: the sub-samples' levels and the
+    // detail's derive from it).
+    vec2 finest_uv = v_xz * g.inv_patch_size[cascades - 1] + half_texel;
+    float lod = textureQueryLod(u_normal_foam, finest_uv).y;
+    // Detail where its tile's mips still show some of it; the lobe keeps only what they do not.
+    mediump float shown = g.detail.y > 0.0
+        ? clamp((DETAIL_GONE_LOD - lod - g.detail.z) * (1.0 / DETAIL_OCTAVES), 0.0, 1.0) : 0.0;
+    if (TAKES_DETAIL(shown > 0.0)) {
+        COUNT(COUNT_DETAIL, 1u);
+        p.layer_slope += detail_slope(v_xz, dx, dy);
+    }
     UNROLL for (int c = 0; c < MAX_CASCADES; ++c) {
         if (c < cascades) {
             vec2 uv = v_xz * g.inv_patch_size[c] + half_texel;
@@ -551,9 +603,6 @@ void main() {
     Water w = water_of(p, cascades);
     mediump vec3 dndx = dFdx(w.n);
     mediump vec3 dndy = dFdy(w.n);
-    vec2 finest_uv = v_xz * g.inv_patch_size[cascades - 1] + half_texel;
-    // The finest cascade's level of detail (unclamped: the sub-samples' levels derive from it).
-    float lod = textureQueryLod(u_normal_foam, finest_uv).y;
 
     // Foam coverage: the whole surface's whitecaps, or each cascade's own foam (eq. 51) when
     // whitecaps are off. Where there is none, the pattern and the bubbles are not looked at
@@ -582,7 +631,7 @@ void main() {
                            MAX_KERNEL_ALPHA2);
         // The slopes no cascade shows (the observed total's remainder, `sim::spectrum::
         // unresolved_slope_variance`) roughen every sample, near or far.
-        float tail = g.specular_aa.x;
+        float tail = g.specular_aa.x * (1.0 - shown);
         if (TAKES_SUPERSAMPLING(lod > SUPERSAMPLE_FROM_LOD && FULL_DENSITY)) {
             // Each sub-sample filters a third of the pixel's extent (mips log2(3) levels
             // finer), its variance terms scaled to that footprint: the normal's change across

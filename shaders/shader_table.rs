@@ -54,6 +54,11 @@ pub const COST_SHADERS: &[(&str, &str, &[&str])] = &[
         &["COST_PATH=5", "COST_CASCADES=3", "COST_RESAMPLED=0"],
     ),
     ("ocean.vert", "cost_ocean.vert", &["MULTIVIEW=1", "COST_CASCADES=3"]),
+    (
+        "ocean.frag",
+        "cost_detail.frag",
+        &["COST_PATH=6", "COST_CASCADES=3", "COST_RESAMPLED=0"],
+    ),
 ];
 
 /// The `spirv-opt` arguments that optimize `input` into `output` for [`COST_SHADERS`].

@@ -130,7 +130,7 @@ fn costs_from(dir: &std::path::Path) -> Result<PathCosts, Box<dyn std::error::Er
                 .collect(),
         );
     }
-    let m: [&[u32]; 7] = std::array::from_fn(|i| words[i].as_slice());
+    let m: [&[u32]; 8] = std::array::from_fn(|i| words[i].as_slice());
     PathCosts::of_modules(m).map_err(|e| format!("--costs-from {}: {e}", dir.display()).into())
 }
 

@@ -85,6 +85,10 @@ pub struct Globals {
     /// Foam streaks: the unit direction (x, z) the wind blows toward, and 1 / the foam
     /// pattern's stretch along it (z; 1: round cells, no streaks).
     pub foam_streak: [f32; 4],
+    /// Detail slopes ([`crate::sim::detail`], in the foam pattern's G and B): 1 / the tile's
+    /// side (x; 1/m), the decoded slope per unit of code (y: the range times the unresolved
+    /// slope deviation; 0: off), and the detail's mip level less the finest cascade's (z).
+    pub detail: [f32; 4],
 }
 
 impl Globals {

@@ -57,12 +57,14 @@ pub mod cost {
     pub const FOAM: &[u32] = spirv!("cost_foam.frag");
     /// Water without anti-aliasing.
     pub const PLAIN: &[u32] = spirv!("cost_plain.frag");
+    /// Water shaded once, with the detail near the viewer.
+    pub const DETAIL: &[u32] = spirv!("cost_detail.frag");
     /// The ocean's vertex shader (multiview).
     pub const VERTEX: &[u32] = spirv!("cost_ocean.vert");
 }
 
 /// Every module with its name, for validation with `spirv-val`.
-pub const ALL: [(&str, &[u32]); 17] = [
+pub const ALL: [(&str, &[u32]); 18] = [
     ("ocean_mv.vert", OCEAN_VERT_MULTIVIEW),
     ("ocean.vert", OCEAN_VERT),
     ("ocean.frag", OCEAN_FRAG),
@@ -74,6 +76,7 @@ pub const ALL: [(&str, &[u32]); 17] = [
     ("cost_super1.frag", cost::SUPERSAMPLED_RESAMPLE),
     ("cost_foam.frag", cost::FOAM),
     ("cost_plain.frag", cost::PLAIN),
+    ("cost_detail.frag", cost::DETAIL),
     ("cost_ocean.vert", cost::VERTEX),
     ("solid_mv.vert", SOLID_VERT_MULTIVIEW),
     ("solid.vert", SOLID_VERT),

@@ -35,6 +35,7 @@
 
 pub mod awake;
 mod cascade;
+pub mod detail;
 pub mod dispersion;
 pub mod evolve;
 pub mod fft;

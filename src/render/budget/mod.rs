@@ -204,6 +204,8 @@ pub struct PathCounts {
     pub foam: u64,
     /// Water fragments without anti-aliasing.
     pub plain: u64,
+    /// Water fragments near the viewer with detail slopes (`sim::detail`) looked at.
+    pub detail: u64,
     /// Fragment-shader invocations of the whole pass (pipeline statistics; helper lanes and
     /// the solids' fragments included where the device counts them); 0 when unavailable.
     pub fragment_invocations: u64,
@@ -233,13 +235,15 @@ pub struct PathCosts {
     pub foam: InstructionCounts,
     /// Water without anti-aliasing.
     pub plain: InstructionCounts,
+    /// What the detail near the viewer adds to a water fragment.
+    pub detail: InstructionCounts,
     /// The ocean's vertex shader.
     pub vertex: InstructionCounts,
 }
 
 /// The cost variants' module names (`COST_SHADERS` in `shaders/shader_table.rs`), in the order
 /// [`PathCosts::of_modules`] takes them.
-pub const COST_MODULES: [&str; 7] = [
+pub const COST_MODULES: [&str; 8] = [
     "cost_sky.frag",
     "cost_single.frag",
     "cost_super0.frag",
@@ -247,6 +251,7 @@ pub const COST_MODULES: [&str; 7] = [
     "cost_foam.frag",
     "cost_plain.frag",
     "cost_ocean.vert",
+    "cost_detail.frag",
 ];
 
 impl PathCosts {
@@ -260,12 +265,13 @@ impl PathCosts {
             cost::FOAM,
             cost::PLAIN,
             cost::VERTEX,
+            cost::DETAIL,
         ])
     }
 
     /// Counts cost variants given in [`COST_MODULES`] order (e.g. those of another version of
     /// the shaders, to compare).
-    pub fn of_modules(m: [&[u32]; 7]) -> Result<Self, spirv::CountError> {
+    pub fn of_modules(m: [&[u32]; 8]) -> Result<Self, spirv::CountError> {
         let single = spirv::count(m[1])?;
         let supersampled = spirv::count(m[2])?;
         Ok(Self {
@@ -276,6 +282,7 @@ impl PathCosts {
             foam: spirv::count(m[4])?.minus(single),
             plain: spirv::count(m[5])?,
             vertex: spirv::count(m[6])?,
+            detail: spirv::count(m[7])?.minus(single),
         })
     }
 }
@@ -333,6 +340,7 @@ pub fn estimate(
         (n(counts.resamples), costs.resample),
         (n(counts.foam), costs.foam),
         (n(counts.plain), costs.plain),
+        (n(counts.detail), costs.detail),
     ];
     let kept = 1.0 - headset.foveation.saving();
     let alu: f64 = paths.iter().map(|(k, c)| k * slots(*c)).sum::<f64>() * kept;

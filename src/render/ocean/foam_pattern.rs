@@ -9,6 +9,11 @@
 //! texels above 1 − c exactly c. R8 with box-filtered mips, each mip equalized again (a
 //! box filter pulls values toward the mean, so a plain mip would turn thin coverage into none
 //! and dense coverage into all), sampled with REPEAT.
+//!
+//! The same image carries the detail slopes (issue 29, item 2; `sim::detail`) in G and B: a
+//! tile of the waves shorter than the finest cascade, unit slope variance, box-filtered mips
+//! (slopes average linearly), for the water shader to draw near the viewer. One image, one
+//! binding: both are tiling patterns made at start-up and sampled with REPEAT.
 
 use ash::vk;
 
@@ -22,6 +27,11 @@ use crate::sim::pack;
 
 /// Texels per side of the pattern.
 pub const FOAM_PATTERN_TEXELS: u32 = 256;
+const _: () = assert!(FOAM_PATTERN_TEXELS as usize == crate::sim::detail::DETAIL_TEXELS);
+
+/// The detail slopes' range in the G and B codes: ±this (unit total variance, so about ±4.2
+/// standard deviations of each component); `DETAIL_RANGE` in `shaders/ocean.frag`.
+pub const DETAIL_RANGE: f32 = 3.0;
 
 /// Worley cells per tile side of the two octaves (whole numbers: the pattern tiles).
 const CELLS: [u32; 2] = [11, 27];
@@ -59,6 +69,30 @@ pub fn generate(seed: u32) -> Vec<u8> {
         equalize(&values, level);
     }
     chain
+}
+
+/// The RGBA8 image with its mip chain: R the foam pattern ([`generate`]), G and B the detail
+/// slopes of the band from `k_lo` (rad/m, the finest cascade's Nyquist), A unused (255).
+pub fn generate_rgba(seed: u32, k_lo: f64) -> Vec<u8> {
+    let g = grid();
+    let foam = generate(seed);
+    let slopes = crate::sim::detail::detail_slopes(k_lo, seed as u64);
+    let len = pack::mip_chain_len(g);
+    let mut channels = [vec![0u8; len], vec![0u8; len]];
+    for (c, chain) in channels.iter_mut().enumerate() {
+        for (code, s) in chain[..g.texels()].iter_mut().zip(&slopes) {
+            let v = (s[c] / DETAIL_RANGE).clamp(-1.0, 1.0) * 0.5 + 0.5;
+            *code = (v * 255.0).round() as u8;
+        }
+        pack::build_r8_mips(g, chain);
+    }
+    let mut rgba = vec![255u8; 4 * len];
+    for (i, texel) in rgba.chunks_exact_mut(4).enumerate() {
+        texel[0] = foam[i];
+        texel[1] = channels[0][i];
+        texel[2] = channels[1][i];
+    }
+    rgba
 }
 
 /// One feature point per cell of a `cells`² tiling lattice, in cell units.
@@ -129,25 +163,26 @@ pub(super) struct FoamPattern {
 impl FoamPattern {
     /// Generates and uploads the pattern (waits for the copy: set-up only). Nothing is left
     /// behind when a step fails.
-    pub fn new(ctx: &GpuContext) -> Result<Self, RenderError> {
+    /// `k_lo`: the finest cascade's Nyquist wave number (rad/m), where the detail band starts.
+    pub fn new(ctx: &GpuContext, k_lo: f64) -> Result<Self, RenderError> {
         let mut this = Self {
             image: Image::null(),
             sampler: vk::Sampler::null(),
         };
-        if let Err(e) = this.create(ctx) {
+        if let Err(e) = this.create(ctx, k_lo) {
             this.destroy(ctx);
             return Err(e);
         }
         Ok(this)
     }
 
-    fn create(&mut self, ctx: &GpuContext) -> Result<(), RenderError> {
+    fn create(&mut self, ctx: &GpuContext, k_lo: f64) -> Result<(), RenderError> {
         let g = grid();
         let side = FOAM_PATTERN_TEXELS;
         self.image = Image::new(
             ctx,
             ImageDesc {
-                format: vk::Format::R8_UNORM,
+                format: vk::Format::R8G8B8A8_UNORM,
                 extent: vk::Extent2D {
                     width: side,
                     height: side,
@@ -161,13 +196,13 @@ impl FoamPattern {
             },
         )?;
         self.sampler = sampler(ctx, g.mip_levels() as f32)?;
-        let chain = generate(0x5eaf_0a11);
+        let chain = generate_rgba(0x5eaf_0a11, k_lo);
         let levels: Vec<Level<'_>> = (0..g.mip_levels())
             .map(|m| {
                 let s = side >> m;
                 let at = pack::mip_offset(g, m);
                 Level {
-                    bytes: &chain[at..at + (s * s) as usize],
+                    bytes: &chain[4 * at..4 * (at + (s * s) as usize)],
                     width: s,
                     height: s,
                 }
@@ -222,6 +257,34 @@ mod tests {
             across < 2.0 * inside,
             "wrap step {across} vs {inside} inside"
         );
+    }
+
+    #[test]
+    fn the_detail_channels_hold_slopes_centred_on_the_middle_code() {
+        let rgba = generate_rgba(7, 50.0);
+        let n = FOAM_PATTERN_TEXELS as usize;
+        let foam = generate(7);
+        for c in 1..3 {
+            let codes: Vec<f64> = rgba[..4 * n * n]
+                .chunks_exact(4)
+                .map(|t| t[c] as f64)
+                .collect();
+            let mean = codes.iter().sum::<f64>() / codes.len() as f64;
+            let sd =
+                (codes.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / codes.len() as f64).sqrt();
+            // Unit total variance: each component's deviation about 0.71, i.e. 0.71 / 3 of the
+            // half range (127.5 codes).
+            assert!((mean - 127.5).abs() < 2.0, "channel {c}: mean {mean}");
+            assert!(
+                (20.0..40.0).contains(&sd),
+                "channel {c}: deviation {sd} codes"
+            );
+        }
+        // R is the foam pattern, unchanged, through the whole chain.
+        assert!(rgba
+            .chunks_exact(4)
+            .zip(&foam)
+            .all(|(t, &f)| t[0] == f && t[3] == 255));
     }
 
     #[test]

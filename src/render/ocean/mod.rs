@@ -103,6 +103,10 @@ pub struct RendererSettings {
     /// Foam drawn out into streaks along a strong wind ([`foam_streak_stretch`]). Off for
     /// comparisons only.
     pub foam_streaks: bool,
+    /// Detail near the viewer: the waves shorter than the finest cascade
+    /// ([`crate::sim::detail`]) drawn where the eye can see them, faded out with distance.
+    /// Off for comparisons only.
+    pub detail: bool,
     /// Frames the CPU may record ahead of the GPU (≥ 2); also the staging ring's slot count.
     pub frames_in_flight: usize,
     /// The sun, the air and the clouds: the sky drawn, reflected and fogged with, the sun's light
@@ -147,6 +151,7 @@ impl Default for RendererSettings {
             specular_aa: true,
             whitecaps: true,
             foam_streaks: true,
+            detail: true,
             frames_in_flight: 2,
             sun: default_sun(),
             fog_distance: 4000.0,

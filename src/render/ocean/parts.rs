@@ -137,7 +137,9 @@ pub(super) fn make_parts(
     let frames = settings.frames_in_flight;
     let sky = parts.sky.insert(SkyMap::new(ctx, &settings.sun)?);
     let [disp, norm, caps] = textures.descriptors();
-    let foam = parts.foam.insert(FoamPattern::new(ctx)?);
+    let finest = config.patch_sizes.last().copied().unwrap_or(16.0) as f64;
+    let nyquist = std::f64::consts::PI * config.grid.n() as f64 / finest;
+    let foam = parts.foam.insert(FoamPattern::new(ctx, nyquist)?);
     let images = [
         disp,
         norm,

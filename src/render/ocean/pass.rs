@@ -17,6 +17,7 @@ use crate::lod::{LodSettings, OceanLod};
 use crate::render::barrier::{self, Access, ImageBarrier};
 use crate::render::camera::Globals;
 use crate::render::pipeline::{Pipelines, Push};
+use crate::sim::detail::{DETAIL_TEXELS, DETAIL_TILE_M};
 use crate::sim::whitecaps::WHITECAP_TEXELS;
 use crate::sim::{pack, OceanConfig};
 
@@ -126,6 +127,18 @@ impl PassConstants {
             if settings.specular_aa { 1.0 } else { 0.0 },
             (1.0 - len0) / len0,
             rough0.powi(4),
+        ];
+        // Detail slopes: their deviation is the unresolved one (what the lobe widens with), the
+        // code's ±1 spanning ±DETAIL_RANGE unit deviations.
+        g.detail = [
+            1.0 / DETAIL_TILE_M,
+            if settings.detail {
+                super::foam_pattern::DETAIL_RANGE * input.surfaces.unresolved_slope_variance.sqrt()
+            } else {
+                0.0
+            },
+            ((finest / self.grid as f32) / (DETAIL_TILE_M / DETAIL_TEXELS as f32)).log2(),
+            0.0,
         ];
         // Light shines through a crest from half the significant wave height (at least 5 cm).
         g.derived[2] = 0.5 / self.grid as f32;

@@ -145,6 +145,7 @@ impl PathProbe {
             foam: per_frame(t[3].into()),
             plain: per_frame(t[4].into()),
             resamples: per_frame(t[5].into()),
+            detail: per_frame(t[6].into()),
             vertex_invocations: per_frame(self.invocations[0]),
             fragment_invocations: per_frame(self.invocations[1]),
         })
