@@ -1,12 +1,13 @@
 #version 450
 // Water shading in linear HDR (kcd/m², the sky's units), exposed and tonemapped here (Khronos
 // PBR Neutral) into the sRGB target (issue 14), after the Atlas talk's water model:
-// - normals from the cascades' RGBA8 mip chains (eq. 50-53);
+// - normals from the cascades' RGBA8 mip chains (eq. 50-53) and, near the viewer, the waves
+//   shorter than the finest cascade (`sim::detail`, where a pixel still sees them);
 // - the sky reflected from the prefiltered environment map (mip by roughness), weighted by
 //   Fresnel averaged over the slopes the normal does not show (Bruneton et al. 2010), the rest
 //   going to the water body: back-scattered light (greener at grazing views), bubbles below
 //   the foam (parallax), and the sun through thin crests, tinted by water's absorption;
-// - a GGX sun highlight with height-correlated Smith masking-shadowing;
+// - a GGX sun highlight with height-correlated Smith masking-shadowing (Hammon's form);
 // - foam: the whitecap coverage thresholds a tiling two-scale pattern (a share c of the
 //   surface turns white), rougher water around it; fog to the sky at the horizon.
 //
@@ -19,7 +20,7 @@
 //   third of the pixel's extent. Only the cascades whose texels are under a pixel there are
 //   sampled again; the others, the sky's radiance (prefiltered, smooth) and the dim rest (the
 //   water body, foam, fog) come from the pixel's own sample. Issue 28: supersampling the whole
-//   water model at four positions cost 1.6x the pass on lavapipe; this costs 1.3x for the same
+//   water model at four positions cost 1.6x the pass on lavapipe; this costs 1.3-1.4x for the same
 //   far-band error facing the sun (docs/notes/gpu-cost-model.md has the levers tried);
 // - the slope variance a shading sample still cannot show widens the GGX lobe: filtered out of
 //   the normal maps (Toksvig: an averaged normal is shorter; the variance (1 - |n|)/|n| beyond
@@ -338,7 +339,8 @@ struct Water {
 // cascade for the supersampled highlight, which replaces only the minified ones.
 struct PixelCascades {
     CascadeSample c[MAX_CASCADES];
-    // The interaction layer's slope (n.xz / n.y, as a cascade's: −∇h) at the pixel.
+    // The interaction layer's slope and the detail's (n.xz / n.y, as a cascade's: −∇h) at the
+    // pixel.
     mediump vec2 layer_slope;
 };
 
@@ -410,14 +412,14 @@ mediump float mean_fresnel(mediump float ndotv, Lobe l) {
 
 // GGX α² at a shading sample of smoothness `smoothness`; `unshown`: slope variance the normal
 // does not show (specular anti-aliasing: the unresolved waves' and what filtering hid), < 0 for
-// the plain shading (which still counts the unresolved waves'). Broken water around foam of
-// coverage `coverage` is rougher.
-float sample_a2(float smoothness, float unshown, float coverage) {
+// the plain shading (which still counts `tail`, the unresolved waves' not drawn as detail).
+// Broken water around foam of coverage `coverage` is rougher.
+float sample_a2(float smoothness, float unshown, float coverage, float tail) {
     // Smoothness 1 is a mirror, clamped so the sun stays a few pixels wide. The slopes no
     // cascade shows (the observed total's remainder) roughen it in every path: they are the
     // sea's, not a filter's.
     float rough = max(1.0 - smoothness, MIN_ROUGHNESS);
-    float a2 = rough * rough * rough * rough + g.specular_aa.x;
+    float a2 = rough * rough * rough * rough + tail;
     if (unshown >= 0.0) {
         // The level-0 look, plus the slope variance this sample cannot show.
         a2 = min(g.specular_aa.w + unshown, 1.0);
@@ -547,7 +549,7 @@ vec3 supersampled_surface(PixelCascades p, int cascades, bool resample[MAX_CASCA
         }
         highp vec3 up = vec3(slope.x, 1.0, slope.y);
         vec3 n = normalize(up);
-        Lobe l = lobe_of(sample_a2(smoothness, filtered + unshown, coverage));
+        Lobe l = lobe_of(sample_a2(smoothness, filtered + unshown, coverage, 0.0));
         sum += surface_over(n, body, reflected, sv, l);
     }
     return sum * (1.0 / float(SUBSAMPLE_COUNT + 1));
@@ -622,16 +624,17 @@ void main() {
 
     vec3 colour;
     SunView sv = sun_view(v);
+    // The slopes no cascade shows (the observed total's remainder, `sim::spectrum::
+    // unresolved_slope_variance`) roughen every sample, near or far, less what the detail draws.
+    float tail = g.specular_aa.x * (1.0 - shown);
     mediump vec3 body = water_body(w.n, f, v, height);
     if (TAKES_PLAIN(g.specular_aa.y < 0.5)) {
         COUNT(COUNT_PLAIN, 1u);
-        colour = surface_light(w.n, body, sv, lobe_of(sample_a2(w.smoothness, -1.0, f.coverage)));
+        Lobe l = lobe_of(sample_a2(w.smoothness, -1.0, f.coverage, tail));
+        colour = surface_light(w.n, body, sv, l);
     } else {
         mediump float kernel = min(2.0 * PIXEL_VARIANCE * (dot(dndx, dndx) + dot(dndy, dndy)),
                            MAX_KERNEL_ALPHA2);
-        // The slopes no cascade shows (the observed total's remainder, `sim::spectrum::
-        // unresolved_slope_variance`) roughen every sample, near or far.
-        float tail = g.specular_aa.x * (1.0 - shown);
         if (TAKES_SUPERSAMPLING(lod > SUPERSAMPLE_FROM_LOD && FULL_DENSITY)) {
             // Each sub-sample filters a third of the pixel's extent (mips log2(3) levels
             // finer), its variance terms scaled to that footprint: the normal's change across
@@ -647,7 +650,7 @@ void main() {
             // The sky reflected once, along the pixel's normal from the map level of the
             // pixel's whole footprint: smooth, prefiltered light, whose weight (Fresnel) and
             // the sun's highlight are what change within the pixel.
-            Lobe l = lobe_of(sample_a2(w.smoothness, w.filtered + tail + kernel, f.coverage));
+            Lobe l = lobe_of(sample_a2(w.smoothness, w.filtered + tail + kernel, f.coverage, tail));
             vec3 r = reflect(-v, w.n);
             r.y = abs(r.y);
             mediump vec3 reflected = sky_env(r, l.rough);
@@ -658,7 +661,7 @@ void main() {
                                           f.coverage);
         } else {
             COUNT(COUNT_SINGLE, 1u);
-            Lobe l = lobe_of(sample_a2(w.smoothness, w.filtered + tail + kernel, f.coverage));
+            Lobe l = lobe_of(sample_a2(w.smoothness, w.filtered + tail + kernel, f.coverage, tail));
             colour = surface_light(w.n, body, sv, l);
         }
     }
