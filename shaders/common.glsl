@@ -51,7 +51,8 @@ layout(set = 0, binding = 0, std140) uniform Globals {
     vec4 interaction;
     // x, y: the distances (m) where the layer's displacement of the mesh starts and ends fading.
     vec4 interaction_fade;
-    // x, z: unit direction the wind blows toward; z: 1 / the foam pattern's stretch along it.
+    // x, y: unit direction (x, z) the wind blows toward; z: 1 / the foam pattern's stretch
+    // along it; w: 1 = foam lit on its normal (0: as level foam, for comparisons).
     vec4 foam_streak;
     // Detail slopes (`sim::detail`, the foam pattern's G and B): x: 1 / the tile's side (1/m);
     // y: decoded slope per unit of code (0: off); z: the detail's mip level less the finest

@@ -375,6 +375,7 @@ struct Foam {
     mediump float coverage;
     mediump float drawn;
     mediump float bubbles;
+    mediump vec3 light;  // the foam's radiance where drawn (`foam_light`)
 };
 
 // A shading sample's GGX lobe: α² (full precision: the sun's highlight), α, and √α, the
@@ -506,9 +507,20 @@ vec3 surface_light(vec3 n, mediump vec3 body, SunView sv, Lobe l) {
     return surface_over(n, body, sky_env(r, l.rough), sv, l);
 }
 
-// Foam: a diffuse white layer over the share of the pixel it covers.
+// Foam: a diffuse white layer over the share of the pixel it covers, lit on its own normal
+// `n` (issue 29, item 4; the wave's, at the pixel): the sun by n·l, the sky by the share of the
+// dome it faces, (1 + n_y)/2 for a sky of even radiance, so that foam on a face turned to the
+// sun is brighter than on its back. Level foam gets what a horizontal white surface does
+// (`g.diffuse`), which `g.foam_streak.w` = 0 keeps everywhere (for comparisons).
+mediump vec3 foam_light(vec3 n) {
+    mediump vec3 sun = g.sun_illuminance.rgb * max(dot(n, g.sun.xyz), 0.0);
+    mediump vec3 sky = g.sky_illuminance.rgb * (0.5 + 0.5 * n.y);
+    return FOAM_ALBEDO * mix(g.diffuse.rgb, (sun + sky) * (1.0 / PI), g.foam_streak.w);
+}
+
+// The foam over the water's `colour` (its light `f.light` made where there is foam).
 vec3 with_foam(vec3 colour, Foam f) {
-    return mix(colour, FOAM_ALBEDO * g.diffuse.rgb, f.drawn);
+    return mix(colour, f.light, f.drawn);
 }
 
 // The surface's light over the pixel's `body` and `reflected` sky, averaged over the pixel's
@@ -615,10 +627,12 @@ void main() {
     f.coverage = 1.0 - (1.0 - f.coverage) * (1.0 - layer.w);
     f.drawn = 0.0;
     f.bubbles = 0.0;
+    f.light = vec3(0.0);
     if (TAKES_FOAM(f.coverage > 0.0)) {
         COUNT(COUNT_FOAM, 1u);
         f.drawn = drawn_foam(v_xz, dx, dy, f.coverage);
         f.bubbles = bubbles_under(v_xz, v, w.n, dx, dy, f.coverage);
+        f.light = foam_light(w.n);
     }
     float height = v_world.y;
 

@@ -10,6 +10,7 @@ mod common;
 use common::gpu::{self, Frame};
 use glam::Vec3;
 use vr_ocean::render::camera::project_to_pixel;
+use vr_ocean::render::tonemap::srgb_decode;
 use vr_ocean::render::StereoMode;
 use vr_ocean::sim::{OceanConfig, SimCore, Surfaces};
 use vr_ocean::xr::desktop::{PERIOD, SETTLE_DT};
@@ -266,5 +267,68 @@ fn gale_foam_is_streaked_along_the_wind() {
     assert!(
         on > 1.5 * off,
         "along/across with streaks {on:.2}, without {off:.2}"
+    );
+}
+
+/// Issue 29, item 4: foam catches the light. A gale (20 m/s) straight down under a low sun
+/// (20° high), foam lit on the waves' normals against lit as level foam, the same sea: on the
+/// pixels fully foamed in both, the ratio of their linear luminances (under the tone map's
+/// knee, so linear in the light) is 1 everywhere for level foam and follows the faces' turn to
+/// the sun when lit on its normal (n·l swings by about ±0.2 around the level 0.34 here).
+#[test]
+fn foam_is_lit_on_the_waves_faces() {
+    let path = gpu::standing(HEIGHT, 0.0, -89.0);
+    let shot = |whitecaps: bool, lit: bool| {
+        let mut opts = gpu::small_options(StereoMode::TwoPass, vec![SKIP + FRAMES - 1]);
+        opts.ocean = sea(20.0);
+        opts.renderer.whitecaps = whitecaps;
+        opts.renderer.foam_lit = lit;
+        opts.renderer.sun.elevation_deg = 20.0;
+        let (_, mut f) = gpu::render_after(&opts, path.clone(), SKIP, FRAMES, SIZE, SIZE);
+        f.remove(0)
+    };
+    let bare = shot(false, true);
+    let lit = shot(true, true);
+    let level = shot(true, false);
+    if std::env::var_os("VR_OCEAN_SAVE_FRAMES").is_some() {
+        eprintln!("saved {}", lit.save("foam-lit").display());
+        eprintln!("saved {}", level.save("foam-level").display());
+    }
+    let full = |f: &Frame| {
+        let g = gains(f, &bare);
+        let mut sorted: Vec<i32> = g.iter().copied().filter(|&v| v > 30).collect();
+        sorted.sort_unstable();
+        let white = sorted[sorted.len() * 99 / 100] as f64;
+        g.iter()
+            .map(|&v| v as f64 >= 0.8 * white)
+            .collect::<Vec<bool>>()
+    };
+    let (full_lit, full_level) = (full(&lit), full(&level));
+    let lum = |f: &Frame, eye: usize, x: u32, y: u32| {
+        let p = f.pixel(eye, x, y);
+        0.2126 * srgb_decode(p[0]) + 0.7152 * srgb_decode(p[1]) + 0.0722 * srgb_decode(p[2])
+    };
+    let mut ratios = Vec::new();
+    let mut i = 0;
+    for eye in 0..2 {
+        for y in 0..SIZE {
+            for x in 0..SIZE {
+                if full_lit[i] && full_level[i] {
+                    ratios.push((lum(&lit, eye, x, y) / lum(&level, eye, x, y)) as f64);
+                }
+                i += 1;
+            }
+        }
+    }
+    assert!(ratios.len() > 500, "{} fully foamed pixels", ratios.len());
+    let mean = ratios.iter().sum::<f64>() / ratios.len() as f64;
+    let sd = (ratios.iter().map(|r| (r - mean).powi(2)).sum::<f64>() / ratios.len() as f64).sqrt();
+    println!(
+        "{} fully foamed pixels: foam lit on its normal / as level foam {mean:.3} ± {sd:.3}",
+        ratios.len()
+    );
+    assert!(
+        sd >= 0.05,
+        "foam lit on its normal is level foam everywhere: ratio {mean:.3} ± {sd:.3}"
     );
 }

@@ -83,7 +83,8 @@ pub struct Globals {
     /// (x, y), as a cascade's (its waves would alias on the coarser mesh beyond).
     pub interaction_fade: [f32; 4],
     /// Foam streaks: the unit direction (x, z) the wind blows toward, and 1 / the foam
-    /// pattern's stretch along it (z; 1: round cells, no streaks).
+    /// pattern's stretch along it (z; 1: round cells, no streaks); w: 1 = foam lit on its
+    /// normal (0: as level foam, for comparisons).
     pub foam_streak: [f32; 4],
     /// Detail slopes ([`crate::sim::detail`], in the foam pattern's G and B): 1 / the tile's
     /// side (x; 1/m), the decoded slope per unit of code (y: the range times the unresolved

@@ -103,6 +103,9 @@ pub struct RendererSettings {
     /// Foam drawn out into streaks along a strong wind ([`foam_streak_stretch`]). Off for
     /// comparisons only.
     pub foam_streaks: bool,
+    /// Foam lit on its own normal (the wave's): brighter on faces turned to the sun. Off (lit
+    /// as level foam) for comparisons only.
+    pub foam_lit: bool,
     /// Detail near the viewer: the waves shorter than the finest cascade
     /// ([`crate::sim::detail`]) drawn where the eye can see them, faded out with distance.
     /// Off for comparisons only.
@@ -152,6 +155,7 @@ impl Default for RendererSettings {
             whitecaps: true,
             foam_streaks: true,
             detail: true,
+            foam_lit: true,
             frames_in_flight: 2,
             sun: default_sun(),
             fog_distance: 4000.0,

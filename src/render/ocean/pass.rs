@@ -107,7 +107,8 @@ impl PassConstants {
         } else {
             1.0
         };
-        g.foam_streak = [toward[0], toward[1], 1.0 / stretch, 0.0];
+        let foam_lit = if settings.foam_lit { 1.0 } else { 0.0 };
+        g.foam_streak = [toward[0], toward[1], 1.0 / stretch, foam_lit];
         g.params = [
             self.cascades as f32,
             self.grid as f32,
