@@ -253,7 +253,6 @@ mediump float drawn_foam(vec2 xz, vec2 dx, vec2 dy, mediump float c) {
 // Two layers of the tile, the second turned and 2^0.25 finer, drift at about the band's phase
 // speeds (0.23-0.3 m/s), one along the wind and one across it, so the ripples change as they
 // cross instead of sliding as one picture.
-const float DETAIL_RANGE = 3.0;
 const float DETAIL_SCALE_2 = 1.1892071;
 const mat2 DETAIL_TURN = mat2(-0.5, 0.8660254, -0.8660254, -0.5);
 const float DETAIL_SPEED_1 = 0.25;
@@ -277,7 +276,7 @@ mediump vec2 detail_slope(vec2 xz, vec2 dx, vec2 dy) {
                                   dy * inv_tile).gb;
     mediump vec2 s2 = textureGrad(u_foam_pattern, vec3(uv2, 0.0), m2 * dx * inv_tile,
                                   m2 * dy * inv_tile).gb;
-    // Codes to slopes: ±1 is ±DETAIL_RANGE unit deviations, times the sea's (`g.detail.y`);
+    // Codes to slopes: `g.detail.y` per unit (the code range times the sea's deviation);
     // the second layer's slope back to the world's frame (its chain rule: transpose(m2)), the
     // two weighted to keep the variance: 1 + 2^0.5 = 2.41.
     mediump vec2 slope = (s1 * 2.0 - 1.0) + transpose(m2) * (s2 * 2.0 - 1.0);

@@ -152,17 +152,31 @@ fn the_white_area_is_the_simulated_coverage() {
     );
 }
 
+/// The gale (20 m/s) straight down from `HEIGHT`, the settings changed by `set`: the captured
+/// frame after settling.
+fn gale_shot(set: impl Fn(&mut vr_ocean::render::RendererSettings)) -> Frame {
+    let mut opts = gpu::small_options(StereoMode::TwoPass, vec![SKIP + FRAMES - 1]);
+    opts.ocean = sea(20.0);
+    set(&mut opts.renderer);
+    let path = gpu::standing(HEIGHT, 0.0, -89.0);
+    let (_, mut f) = gpu::render_after(&opts, path, SKIP, FRAMES, SIZE, SIZE);
+    f.remove(0)
+}
+
+/// The gain (`gains`) of a fully foamed pixel: the 99th percentile of the visibly foamed ones'.
+fn white_gain(gains: &[i32]) -> f64 {
+    let mut sorted: Vec<i32> = gains.iter().copied().filter(|&g| g > 30).collect();
+    sorted.sort_unstable();
+    sorted[sorted.len() * 99 / 100] as f64
+}
+
 /// Of the pixels foam whitens visibly (at least 30 % of the way from the water without it to
 /// fully foamed white, the 99th percentile of the gain: above what the bubbles alone add), the
 /// share that is partial (30-70 % of the way): soft edges and thin foam, not paint chips.
 fn partial_share(with: &Frame, without: &Frame) -> (f64, usize) {
-    let gains: Vec<f64> = gains(with, without)
-        .into_iter()
-        .map(|d| d.max(0) as f64)
-        .collect();
-    let mut sorted: Vec<f64> = gains.iter().copied().filter(|&g| g > 30.0).collect();
-    sorted.sort_by(f64::total_cmp);
-    let white = sorted[sorted.len() * 99 / 100];
+    let gains = gains(with, without);
+    let white = white_gain(&gains);
+    let gains: Vec<f64> = gains.into_iter().map(|d| d.max(0) as f64).collect();
     let foamed = gains.iter().filter(|&&g| g >= 0.3 * white).count();
     let partial = gains
         .iter()
@@ -173,15 +187,10 @@ fn partial_share(with: &Frame, without: &Frame) -> (f64, usize) {
 
 #[test]
 fn foam_edges_are_soft() {
-    let path = gpu::standing(HEIGHT, 0.0, -89.0);
-    let mut shots = Vec::new();
-    for whitecaps in [true, false] {
-        let mut opts = gpu::small_options(StereoMode::TwoPass, vec![SKIP + FRAMES - 1]);
-        opts.ocean = sea(20.0);
-        opts.renderer.whitecaps = whitecaps;
-        let (_, mut f) = gpu::render_after(&opts, path.clone(), SKIP, FRAMES, SIZE, SIZE);
-        shots.push(f.remove(0));
-    }
+    let shots: Vec<Frame> = [true, false]
+        .into_iter()
+        .map(|whitecaps| gale_shot(|r| r.whitecaps = whitecaps))
+        .collect();
     if std::env::var_os("VR_OCEAN_SAVE_FRAMES").is_some() {
         eprintln!("saved {}", shots[0].save("foam-soft").display());
     }
@@ -230,19 +239,10 @@ fn mean_run(mask: &[bool], w: u32, h: u32, along_rows: bool) -> f64 {
 /// coverage); without, the pattern's cells are round and the ratio is the coverage's own.
 #[test]
 fn gale_foam_is_streaked_along_the_wind() {
-    let path = gpu::standing(HEIGHT, 0.0, -89.0);
-    let shot = |whitecaps: bool, streaks: bool| {
-        let mut opts = gpu::small_options(StereoMode::TwoPass, vec![SKIP + FRAMES - 1]);
-        opts.ocean = sea(20.0);
-        opts.renderer.whitecaps = whitecaps;
-        opts.renderer.foam_streaks = streaks;
-        let (_, mut f) = gpu::render_after(&opts, path.clone(), SKIP, FRAMES, SIZE, SIZE);
-        f.remove(0)
-    };
-    let bare = shot(false, true);
+    let bare = gale_shot(|r| r.whitecaps = false);
     let mut ratios = Vec::new();
     for streaks in [true, false] {
-        let f = shot(true, streaks);
+        let f = gale_shot(|r| r.foam_streaks = streaks);
         if std::env::var_os("VR_OCEAN_SAVE_FRAMES").is_some() {
             eprintln!(
                 "saved {}",
@@ -250,9 +250,7 @@ fn gale_foam_is_streaked_along_the_wind() {
             );
         }
         let gains: Vec<i32> = gains(&f, &bare);
-        let mut sorted: Vec<i32> = gains.iter().copied().filter(|&g| g > 30).collect();
-        sorted.sort_unstable();
-        let white = sorted[sorted.len() * 99 / 100] as f64;
+        let white = white_gain(&gains);
         let mask: Vec<bool> = gains.iter().map(|&g| g as f64 >= 0.3 * white).collect();
         let along = mean_run(&mask, SIZE, SIZE, true);
         let across = mean_run(&mask, SIZE, SIZE, false);
@@ -277,15 +275,12 @@ fn gale_foam_is_streaked_along_the_wind() {
 /// the sun when lit on its normal (n·l swings by about ±0.2 around the level 0.34 here).
 #[test]
 fn foam_is_lit_on_the_waves_faces() {
-    let path = gpu::standing(HEIGHT, 0.0, -89.0);
     let shot = |whitecaps: bool, lit: bool| {
-        let mut opts = gpu::small_options(StereoMode::TwoPass, vec![SKIP + FRAMES - 1]);
-        opts.ocean = sea(20.0);
-        opts.renderer.whitecaps = whitecaps;
-        opts.renderer.foam_lit = lit;
-        opts.renderer.sun.elevation_deg = 20.0;
-        let (_, mut f) = gpu::render_after(&opts, path.clone(), SKIP, FRAMES, SIZE, SIZE);
-        f.remove(0)
+        gale_shot(|r| {
+            r.whitecaps = whitecaps;
+            r.foam_lit = lit;
+            r.sun.elevation_deg = 20.0;
+        })
     };
     let bare = shot(false, true);
     let lit = shot(true, true);
@@ -296,9 +291,7 @@ fn foam_is_lit_on_the_waves_faces() {
     }
     let full = |f: &Frame| {
         let g = gains(f, &bare);
-        let mut sorted: Vec<i32> = g.iter().copied().filter(|&v| v > 30).collect();
-        sorted.sort_unstable();
-        let white = sorted[sorted.len() * 99 / 100] as f64;
+        let white = white_gain(&g);
         g.iter()
             .map(|&v| v as f64 >= 0.8 * white)
             .collect::<Vec<bool>>()

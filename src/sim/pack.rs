@@ -19,25 +19,11 @@ pub fn smoothness(normal_length: f32) -> f32 {
     1.0 - r.max(0.0).sqrt()
 }
 
-/// Length of the averaged normal that smoothness `s` encodes: eq. 53 inverted.
-pub fn normal_length_of(smoothness: f32) -> f32 {
-    let r = (1.0 - smoothness) * (1.0 - smoothness);
-    let t = (-0.85 + (0.7225 + 0.6 * (1.0 - r)).sqrt()) / 0.3;
-    (t.clamp(0.0, 1.0) + 2.0) / 3.0
-}
-
 /// The Toksvig slope variance (1 − |n|)/|n| of the averaged normal that smoothness s encodes
-/// ([`normal_length_of`]), fitted as u²·(c₀ + c₁u + c₂u² + c₃u³ + c₄u⁴), u = 1 − s: within
-/// 0.6 % of the exact form. The water shader evaluates it per texel (`toksvig_variance` in
+/// (eq. 53 inverted), fitted as u²·(c₀ + c₁u + c₂u² + c₃u³ + c₄u⁴), u = 1 − s: within 0.6 % of
+/// the exact form. The water shader evaluates it per texel (`toksvig_variance` in
 /// `shaders/ocean.frag`, these coefficients) instead of a square root and a division (issue 28).
 pub const TOKSVIG_FIT: [f32; 5] = [0.29176, -0.03476, 0.30023, -0.36776, 0.30845];
-
-/// [`TOKSVIG_FIT`] at smoothness `s`.
-pub fn toksvig_variance_fit(s: f32) -> f32 {
-    let u = 1.0 - s;
-    let c = TOKSVIG_FIT;
-    u * u * (c[0] + u * (c[1] + u * (c[2] + u * (c[3] + u * c[4]))))
-}
 
 /// 1.5·2²³: adding it to x ∈ [0, 2²²) leaves round(x) in the low mantissa bits.
 const ROUND_MAGIC: f32 = 12_582_912.0;
@@ -132,6 +118,20 @@ pub fn build_r8_mips(grid: GridSize, chain: &mut [u8]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Length of the averaged normal that smoothness `s` encodes: eq. 53 inverted.
+    fn normal_length_of(smoothness: f32) -> f32 {
+        let r = (1.0 - smoothness) * (1.0 - smoothness);
+        let t = (-0.85 + (0.7225 + 0.6 * (1.0 - r)).sqrt()) / 0.3;
+        (t.clamp(0.0, 1.0) + 2.0) / 3.0
+    }
+
+    /// [`TOKSVIG_FIT`] at smoothness `s`, as the shader evaluates it.
+    fn toksvig_variance_fit(s: f32) -> f32 {
+        let u = 1.0 - s;
+        let c = TOKSVIG_FIT;
+        u * u * (c[0] + u * (c[1] + u * (c[2] + u * (c[3] + u * c[4]))))
+    }
 
     #[test]
     fn the_shaders_toksvig_fit_follows_eq_53() {

@@ -30,7 +30,7 @@ pub const FOAM_PATTERN_TEXELS: u32 = 256;
 const _: () = assert!(FOAM_PATTERN_TEXELS as usize == crate::sim::detail::DETAIL_TEXELS);
 
 /// The detail slopes' range in the G and B codes: ±this (unit total variance, so about ±4.2
-/// standard deviations of each component); `DETAIL_RANGE` in `shaders/ocean.frag`.
+/// standard deviations of each component); the shader gets it in `Globals::detail`.
 pub const DETAIL_RANGE: f32 = 3.0;
 
 /// Worley cells per tile side of the two octaves (whole numbers: the pattern tiles).
