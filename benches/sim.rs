@@ -159,6 +159,7 @@ fn default_scene(c: &mut Criterion) {
                     focus: [12.0, -30.0],
                     foam: cfg.waves.foam,
                     wind_speed: cfg.waves.wind_speed,
+                    drift: [0.3, 0.1],
                     dt: 1.0 / 72.0,
                 };
                 pool.install(|| state.update(input, &mut caps))

@@ -58,6 +58,9 @@ layout(set = 0, binding = 0, std140) uniform Globals {
     // y: decoded slope per unit of code (0: off); z: the detail's mip level less the finest
     // cascade's.
     vec4 detail;
+    // xy: how far (m) the surface's mean drift has carried the foam (`sim::whitecaps`): the
+    // whitecap maps, the foam pattern and the bubbles are drawn at rest position - xy.
+    vec4 foam_drift;
 } g;
 
 // The interaction layer (`render::ocean::interaction`): h (m), ∂h/∂x, ∂h/∂z, foam; clamped,

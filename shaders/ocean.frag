@@ -185,9 +185,10 @@ const float BUBBLE_REFLECTANCE = 0.06;
 // GGX α² the whitecap coverage adds to the water around the foam (broken, rough water).
 const float FOAM_ROUGHNESS_A2 = 0.25;
 
-// The whitecap coverage at rest position `xz`: the fine level inside its window, fading to
-// the coarse level toward its edge, and beyond both to the coarse level's mean. Sampled with
-// the pixel's footprint (`dx`, `dy`), so the mips give the area's coverage far away.
+// The whitecap coverage at `xz`, a rest position less the drift (`g.foam_drift`): the fine
+// level inside its window, fading to the coarse level toward its edge, and beyond both to the
+// coarse level's mean. Sampled with the pixel's footprint (`dx`, `dy`), so the mips give the
+// area's coverage far away.
 mediump float whitecap_coverage(vec2 xz, vec2 dx, vec2 dy) {
     mediump float cover = g.whitecaps[1].w;
     UNROLL for (int l = 1; l >= 0; --l) {
@@ -621,7 +622,9 @@ void main() {
     // whitecaps are off. Where there is none, the pattern and the bubbles are not looked at
     // (both are zero at zero coverage); explicit gradients keep them valid in this branch.
     Foam f;
-    f.coverage = g.whitecaps[1].w < 0.0 ? w.foam : whitecap_coverage(v_xz, dx, dy);
+    // Foam floats: where the water now at this rest position was when the drift started.
+    vec2 floated = v_xz - g.foam_drift.xy;
+    f.coverage = g.whitecaps[1].w < 0.0 ? w.foam : whitecap_coverage(floated, dx, dy);
     // The interaction layer's foam (splashes, breaking ripples) as independent coverage.
     f.coverage = 1.0 - (1.0 - f.coverage) * (1.0 - layer.w);
     f.drawn = 0.0;
@@ -629,8 +632,8 @@ void main() {
     f.light = vec3(0.0);
     if (TAKES_FOAM(f.coverage > 0.0)) {
         COUNT(COUNT_FOAM, 1u);
-        f.drawn = drawn_foam(v_xz, dx, dy, f.coverage);
-        f.bubbles = bubbles_under(v_xz, v, w.n, dx, dy, f.coverage);
+        f.drawn = drawn_foam(floated, dx, dy, f.coverage);
+        f.bubbles = bubbles_under(floated, v, w.n, dx, dy, f.coverage);
         f.light = foam_light(w.n);
     }
     float height = v_world.y;

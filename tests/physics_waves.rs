@@ -62,6 +62,7 @@ impl Swell {
             harmonic: harm,
             expected_variance: 2.0 * (h0 as f64).powi(2),
             slopes: Default::default(),
+            stokes_drift: [0.0; 2],
             support: Support::full(grid),
         };
         spectrum.support = spectrum.find_support();

@@ -34,10 +34,10 @@ fn sea(wind: f32) -> OceanConfig {
     cfg
 }
 
-/// The surfaces the app showed on the captured frame, replayed on the CPU: `app::run` steps
+/// The surfaces the app showed on frame `captured` (settling frames included), replayed on the CPU: `app::run` steps
 /// first at the first frame's time, then each frame starts the step for its time plus its
 /// period, shown on the next frame.
-fn shown_surfaces(cfg: &OceanConfig) -> Surfaces {
+fn shown_surfaces(cfg: &OceanConfig, captured: u64) -> Surfaces {
     let frame_end = |i: u64| {
         if i < SKIP {
             (i + 1) as f64 * SETTLE_DT
@@ -49,7 +49,7 @@ fn shown_surfaces(cfg: &OceanConfig) -> Surfaces {
     core.set_focus(0.0, 0.0);
     let mut out = Surfaces::new(cfg);
     core.step(0.0, &mut out);
-    for i in 0..SKIP + FRAMES - 1 {
+    for i in 0..captured {
         core.step(frame_end(i), &mut out);
     }
     out
@@ -126,7 +126,7 @@ fn the_white_area_is_the_simulated_coverage() {
             shots.push(f);
         }
         let drawn = whitened_share(&shots[0], &shots[1]);
-        let simulated = coverage_seen(&shots[0], &shown_surfaces(&sea(wind)));
+        let simulated = coverage_seen(&shots[0], &shown_surfaces(&sea(wind), SKIP + FRAMES - 1));
         println!(
             "{wind} m/s: {:.2} % of the pixels drawn white, {:.2} % simulated coverage under them",
             100.0 * drawn,
@@ -323,5 +323,140 @@ fn foam_is_lit_on_the_waves_faces() {
     assert!(
         sd >= 0.05,
         "foam lit on its normal is level foam everywhere: ratio {mean:.3} ± {sd:.3}"
+    );
+}
+
+/// Where the image shows the water at `rest` (a rest position) on frame `frame`: its displaced
+/// position projected into `frame`'s left eye.
+fn pixel_of(frame: &Frame, surfaces: &Surfaces, rest: [f32; 2]) -> Option<[f32; 2]> {
+    let d = vr_ocean::sim::query::displacement_at(&surfaces.cascades, rest[0], rest[1]);
+    let p = Vec3::new(rest[0] + d[0], d[1], rest[1] + d[2]);
+    project_to_pixel(&frame.state.views[0], p, frame.width, frame.height).map(|(x, y)| [x, y])
+}
+
+/// The brightness above the water's of pixel (x, y) of `f`'s left eye: foam (the sky's
+/// reflection stays under the threshold).
+fn foam_weight(f: &Frame, x: i32, y: i32) -> f64 {
+    let p = f.pixel(0, x as u32, y as u32);
+    (p[..3].iter().map(|&c| c as i32).sum::<i32>() - 450).max(0) as f64
+}
+
+/// How far (px) the water under the foam of the centre half of `frames[0]`'s left eye has
+/// moved in `frames[1]`, from the simulations `shown` for each: the mean over rest positions
+/// (a 5 cm lattice), weighted by the foam they show in the first frame. With `drift`, a rest
+/// position has moved by the drift between the two frames.
+fn water_shift(frames: &[Frame], shown: &[Surfaces; 2], drift: bool) -> [f32; 2] {
+    let side = frames[0].width as f32;
+    let (lo, hi) = (side / 4.0, 3.0 * side / 4.0);
+    let [d0, d1] = [&shown[0], &shown[1]].map(|s| s.whitecaps.drift);
+    let moved = if drift {
+        [d1[0] - d0[0], d1[1] - d0[1]]
+    } else {
+        [0.0; 2]
+    };
+    let (mut sum, mut weight) = ([0.0f64; 2], 0.0f64);
+    for j in -200..=200 {
+        for i in -200..=200 {
+            let rest = [i as f32 * 0.05, j as f32 * 0.05];
+            let Some(a) = pixel_of(&frames[0], &shown[0], rest) else {
+                continue;
+            };
+            if !(lo..hi).contains(&a[0]) || !(lo..hi).contains(&a[1]) {
+                continue;
+            }
+            let w = foam_weight(&frames[0], a[0] as i32, a[1] as i32);
+            let later = [rest[0] + moved[0], rest[1] + moved[1]];
+            let Some(b) = pixel_of(&frames[1], &shown[1], later).filter(|_| w > 0.0) else {
+                continue;
+            };
+            for k in 0..2 {
+                sum[k] += w * (b[k] - a[k]) as f64;
+            }
+            weight += w;
+        }
+    }
+    sum.map(|s| (s / weight.max(1e-9)) as f32)
+}
+
+/// The shift (dx, dy) in pixels, within ±`reach`, that best lines up the bright (foam) parts
+/// of `b`'s left eye with the centre half of `a`'s (normalized cross-correlation), and its
+/// correlation.
+fn foam_shift(a: &Frame, b: &Frame, reach: i32) -> ([i32; 2], f64) {
+    let side = a.width as i32;
+    let foam = foam_weight;
+    let (lo, hi) = (side / 4, 3 * side / 4);
+    let window: Vec<f64> = (lo..hi)
+        .flat_map(|y| (lo..hi).map(move |x| (x, y)))
+        .map(|(x, y)| foam(a, x, y))
+        .collect();
+    let mean = window.iter().sum::<f64>() / window.len() as f64;
+    let centred: Vec<f64> = window.iter().map(|v| v - mean).collect();
+    let norm_a = centred.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let mut best = ([0, 0], f64::MIN);
+    for dy in -reach..=reach {
+        for dx in -reach..=reach {
+            let inside = |v: i32| (0..side).contains(&v);
+            if !(inside(lo + dx) && inside(hi - 1 + dx) && inside(lo + dy) && inside(hi - 1 + dy)) {
+                continue;
+            }
+            let other: Vec<f64> = (lo..hi)
+                .flat_map(|y| (lo..hi).map(move |x| (x, y)))
+                .map(|(x, y)| foam(b, x + dx, y + dy))
+                .collect();
+            let m = other.iter().sum::<f64>() / other.len() as f64;
+            let (mut dot, mut norm_b) = (0.0, 0.0);
+            for (u, v) in centred.iter().zip(&other) {
+                dot += u * (v - m);
+                norm_b += (v - m) * (v - m);
+            }
+            let r = dot / (norm_a * norm_b.sqrt()).max(1e-9);
+            if r > best.1 {
+                best = ([dx, dy], r);
+            }
+        }
+    }
+    best
+}
+
+#[test]
+fn foam_moves_with_the_water() {
+    // Two frames 2 s apart, straight down on a gale: the foam in the image moves as the water
+    // under it does: the waves' orbital motion plus the surface's drift (`sim::drift`), which
+    // the replayed simulation predicts. Foam fixed in the world, or carried by the orbits but
+    // not the drift, would land elsewhere.
+    const LAG: u64 = 144;
+    let mut cfg = sea(20.0);
+    // Foam that lasts (it halves in 4.6 s instead of 1.2 s), so that most of the first
+    // frame's is still there in the second.
+    cfg.waves.foam.decay = 0.15;
+    let captured = [SKIP, SKIP + LAG];
+    let mut opts = gpu::small_options(StereoMode::TwoPass, captured.to_vec());
+    opts.ocean = cfg.clone();
+    let path = gpu::standing(HEIGHT, 0.0, -89.0);
+    let (_, frames) = gpu::render_after(&opts, path, SKIP, LAG + 1, SIZE, SIZE);
+    if std::env::var_os("VR_OCEAN_SAVE_FRAMES").is_some() {
+        for (f, c) in frames.iter().zip(captured) {
+            eprintln!("saved {}", f.save(&format!("foam-drift-{c}")).display());
+        }
+    }
+    let shown = captured.map(|c| shown_surfaces(&cfg, c));
+    let carried = water_shift(&frames, &shown, true);
+    let orbits_only = water_shift(&frames, &shown, false);
+    let (shift, r) = foam_shift(&frames[0], &frames[1], 40);
+    let [d0, d1] = [&shown[0], &shown[1]].map(|s| s.whitecaps.drift);
+    println!(
+        "foam moved {shift:?} px (correlation {r:.2}); the water {carried:.1?} px, \
+         without the drift {orbits_only:.1?} px (drift {:.2} m)",
+        (d1[0] - d0[0]).hypot(d1[1] - d0[1])
+    );
+    let miss = |e: [f32; 2]| (shift[0] as f32 - e[0]).hypot(shift[1] as f32 - e[1]);
+    assert!(r > 0.3, "the foam of the two frames barely matches: {r:.2}");
+    assert!(
+        miss(carried) <= 3.0,
+        "foam {shift:?} px, the water {carried:?} px"
+    );
+    assert!(
+        miss(orbits_only) > 6.0,
+        "the drift is too small to tell: {orbits_only:?} px"
     );
 }

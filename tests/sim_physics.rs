@@ -90,6 +90,7 @@ fn single_mode(
         harmonic: harm,
         expected_variance: 2.0 * (amplitude as f64).powi(2),
         slopes: Default::default(),
+        stokes_drift: [0.0; 2],
         support: Support::full(grid),
     };
     spectrum.support = spectrum.find_support();

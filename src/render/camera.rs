@@ -90,6 +90,10 @@ pub struct Globals {
     /// side (x; 1/m), the decoded slope per unit of code (y: the range times the unresolved
     /// slope deviation; 0: off), and the detail's mip level less the finest cascade's (z).
     pub detail: [f32; 4],
+    /// How far (x, z) (m) the surface's mean drift has carried the foam
+    /// ([`crate::sim::whitecaps::Whitecaps::drift`]): the whitecap lattices, the foam pattern
+    /// and the bubbles are drawn at rest position − this; z, w unused.
+    pub foam_drift: [f32; 4],
 }
 
 impl Globals {

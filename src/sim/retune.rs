@@ -395,6 +395,7 @@ impl CascadeSim {
         let m = t.from_moments.lerp(t.to_moments, w as f64);
         self.spectrum.expected_variance = m.variance;
         self.spectrum.slopes = m.slopes;
+        self.spectrum.stokes_drift = m.stokes_drift;
         self.fade_patch = t.from_patch + (t.target.patch - t.from_patch) * w;
         t.weight = w;
     }
@@ -413,6 +414,7 @@ impl CascadeSim {
         self.spectrum.support = t.from_support.clone();
         self.spectrum.expected_variance = t.from_moments.variance;
         self.spectrum.slopes = t.from_moments.slopes;
+        self.spectrum.stokes_drift = t.from_moments.stokes_drift;
         self.fade_patch = t.from_patch;
     }
 

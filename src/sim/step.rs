@@ -10,83 +10,12 @@ use crate::sim::evolve::LoopPhase;
 use crate::sim::fft::Fft2d;
 use crate::sim::grid::{GridSize, SplitField};
 use crate::sim::params::{OceanConfig, PatchFit, WaveParams};
-use crate::sim::query;
 use crate::sim::retune::Retune;
 use crate::sim::spectrum::PackedSpectrum;
-use crate::sim::surface::{CascadeSurface, FloatCopies, SurfaceParams};
-use crate::sim::whitecaps::{WhitecapInput, WhitecapState, Whitecaps};
+use crate::sim::surface::SurfaceParams;
+use crate::sim::whitecaps::{WhitecapInput, WhitecapState};
 
-/// One step's output for every cascade, coarsest first.
-pub struct Surfaces {
-    /// Per-cascade fields.
-    pub cascades: Vec<CascadeSurface>,
-    /// Slope variance (mean |∇h|²) no cascade's grid shows: BRDF roughness for the renderer
-    /// (see [`crate::sim::spectrum::unresolved_slope_variance`]).
-    pub unresolved_slope_variance: f32,
-    /// Length of the level-0 normals (eq. 49 of the material roughness): the renderer's
-    /// specular anti-aliasing counts only the shortening beyond it, which is filtering.
-    pub base_normal_length: f32,
-    /// Foam coverage of the whole surface around the viewer ([`crate::sim::whitecaps`]).
-    pub whitecaps: Whitecaps,
-    /// Expected significant wave height 4·√(Σ variance) (m) of all cascades: the renderer
-    /// tells crests from troughs by height over it.
-    pub significant_height: f32,
-    /// The shown sea's wind at 10 m (m/s; a change's blend) and the unit direction (x, z) the
-    /// set waves' wind blows toward (a new one at once): the renderer streaks foam along it.
-    pub wind: (f32, [f32; 2]),
-}
-
-impl Surfaces {
-    /// Zeroed surfaces shaped for `config`, with level-0 normals only as RGBA8 (what a
-    /// renderer needs).
-    pub fn new(config: &OceanConfig) -> Self {
-        Self::with_base(config, FloatCopies::Skip)
-    }
-
-    /// Zeroed surfaces that also keep full-precision level-0 normals and foam (export, checks).
-    pub fn with_float_copies(config: &OceanConfig) -> Self {
-        Self::with_base(config, FloatCopies::Keep)
-    }
-
-    fn with_base(config: &OceanConfig, base: FloatCopies) -> Self {
-        Self {
-            cascades: config
-                .patch_sizes
-                .iter()
-                .map(|&l| CascadeSurface::new(config.grid, l, base))
-                .collect(),
-            unresolved_slope_variance: 0.0,
-            base_normal_length: 1.0,
-            whitecaps: Whitecaps::default(),
-            significant_height: 0.0,
-            wind: (0.0, [1.0, 0.0]),
-        }
-    }
-
-    /// Simulation time (s) of these fields.
-    pub fn time(&self) -> f64 {
-        self.cascades[0].time
-    }
-
-    /// Water height (m) at world (x, z) on the displaced surface of all cascades.
-    pub fn height_at(&self, x: f32, z: f32) -> f32 {
-        query::height_at(&self.cascades, x, z)
-    }
-
-    /// Heights at many [x, z] points, lazily.
-    pub fn heights_at<'a>(&'a self, points: &'a [[f32; 2]]) -> impl Iterator<Item = f32> + 'a {
-        query::heights_at(&self.cascades, points)
-    }
-
-    /// Largest |Dx|, |h|, |Dz| of the summed cascades (an upper bound: the sum of each
-    /// cascade's maximum), for padding LOD bounding boxes.
-    pub fn max_displacement(&self) -> [f32; 3] {
-        self.cascades.iter().fold([0.0; 3], |a, c| {
-            let m = c.max_displacement;
-            [a[0] + m[0], a[1] + m[1], a[2] + m[2]]
-        })
-    }
-}
+pub use crate::sim::output::Surfaces;
 
 /// Wall time of each stage of the last step, summed over cascades (thesis Table 1).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -297,11 +226,14 @@ impl SimCore {
             c.step(&self.fft, &mut self.scratch, at, surface, &mut times);
         }
         let t4 = Instant::now();
+        // The shown spectrum's Stokes drift and the wind's current carry the foam.
+        let stokes = self.cascades.iter().map(|c| c.spectrum.stokes_drift);
         let input = WhitecapInput {
             cascades: &out.cascades,
             focus: self.focus,
             foam: waves.foam,
             wind_speed: wind,
+            drift: crate::sim::drift::surface_drift(stokes, wind, waves.toward()),
             dt,
         };
         if self.config.whitecaps {

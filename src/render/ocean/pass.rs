@@ -109,6 +109,8 @@ impl PassConstants {
         };
         let foam_lit = if settings.foam_lit { 1.0 } else { 0.0 };
         g.foam_streak = [toward[0], toward[1], 1.0 / stretch, foam_lit];
+        let drift = input.surfaces.whitecaps.drift;
+        g.foam_drift = [drift[0], drift[1], 0.0, 0.0];
         g.params = [
             self.cascades as f32,
             self.grid as f32,

@@ -274,6 +274,9 @@ pub struct PackedSpectrum {
     pub expected_variance: f64,
     /// Slope variances: on the grid, and the unresolved tail (finest cascade only).
     pub slopes: SlopeVariance,
+    /// The Stokes drift (x, z) (m/s) of this cascade's waves at the surface
+    /// ([`modes::Moments::stokes_drift`]).
+    pub stokes_drift: [f64; 2],
     /// Where the packed spectrum can be non-zero (all four planes): the coarse cascades'
     /// bands cover a small square around the centre, outside which the evolution and the FFT
     /// skip their work. It must cover every non-zero of `s` (outside it they are taken as
@@ -320,6 +323,7 @@ impl PackedSpectrum {
             harmonic: lattice.harmonic.clone(),
             expected_variance: moments.variance,
             slopes: moments.slopes,
+            stokes_drift: moments.stokes_drift,
             support,
         }
     }

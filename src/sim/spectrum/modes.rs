@@ -222,14 +222,20 @@ pub fn pack(
         });
 }
 
-/// What a spectrum's power plane holds: the height variance Σ E|h̃(k)|² (m²) and the slope
-/// variances. Additive over rows, and linear in a blend of two planes.
+/// What a spectrum's power plane holds: the height variance Σ E|h̃(k)|² (m²), the slope
+/// variances and the surface's Stokes drift. Additive over rows, and linear in a blend of two
+/// planes.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Moments {
     /// Σ_k E|h̃(k, t)|² = 2·Σ P (k ↦ −k permutes the grid).
     pub variance: f64,
     /// Slope variances ([`SlopeVariance`]).
     pub slopes: SlopeVariance,
+    /// The Stokes drift at the surface (x, z) (m/s), deep water: a wave of amplitude a
+    /// travelling along k carries the surface forward at a²·ω·|k| (Stokes 1847; Kenyon 1969
+    /// for a spectrum). The wave along +k is h₀(k)'s (the crate's convention), of amplitude
+    /// a² = 4·E|h₀(k)|² = 4·P, so u_s = Σ_k 4·P·ω(k)·k.
+    pub stokes_drift: [f64; 2],
 }
 
 impl Moments {
@@ -238,10 +244,11 @@ impl Moments {
     pub fn of_rows(p: &[f32], grid: GridSize, patch: f32, rows: Range<usize>) -> Self {
         let n = grid.n();
         let dx = patch as f64 / n as f64;
-        let (variance, resolved, resolved_finite) = rows
+        let g = crate::sim::params::GRAVITY as f64;
+        let (variance, resolved, resolved_finite, stokes_x, stokes_z) = rows
             .into_par_iter()
             .map(|row| {
-                let mut sums = (0.0, 0.0, 0.0);
+                let mut sums = (0.0, 0.0, 0.0, 0.0, 0.0);
                 for col in 0..n {
                     let power = p[row * n + col];
                     if power == 0.0 {
@@ -252,15 +259,24 @@ impl Moments {
                     let p2 = 2.0 * power as f64;
                     let (kx, kz) = wave_vector(col, row, grid, patch);
                     let fd = ((kx * dx).sin().powi(2) + (kz * dx).sin().powi(2)) / (dx * dx);
+                    let k2 = kx * kx + kz * kz;
+                    // 4·P·ω·k with deep water's ω = √(g|k|).
+                    let drift = 2.0 * p2 * (g * k2.sqrt()).sqrt();
                     sums.0 += p2;
-                    sums.1 += p2 * (kx * kx + kz * kz);
+                    sums.1 += p2 * k2;
                     sums.2 += p2 * fd;
+                    sums.3 += drift * kx;
+                    sums.4 += drift * kz;
                 }
                 sums
             })
-            .reduce(|| (0.0, 0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2));
+            .reduce(
+                || (0.0, 0.0, 0.0, 0.0, 0.0),
+                |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2, a.3 + b.3, a.4 + b.4),
+            );
         Self {
             variance,
+            stokes_drift: [stokes_x, stokes_z],
             slopes: SlopeVariance {
                 resolved,
                 resolved_finite,
@@ -273,6 +289,10 @@ impl Moments {
     pub fn plus(self, o: Self) -> Self {
         Self {
             variance: self.variance + o.variance,
+            stokes_drift: [
+                self.stokes_drift[0] + o.stokes_drift[0],
+                self.stokes_drift[1] + o.stokes_drift[1],
+            ],
             slopes: SlopeVariance {
                 resolved: self.slopes.resolved + o.slopes.resolved,
                 resolved_finite: self.slopes.resolved_finite + o.slopes.resolved_finite,
@@ -286,6 +306,10 @@ impl Moments {
         let l = |a: f64, b: f64| a + (b - a) * w;
         Self {
             variance: l(self.variance, to.variance),
+            stokes_drift: [
+                l(self.stokes_drift[0], to.stokes_drift[0]),
+                l(self.stokes_drift[1], to.stokes_drift[1]),
+            ],
             slopes: SlopeVariance {
                 resolved: l(self.slopes.resolved, to.slopes.resolved),
                 resolved_finite: l(self.slopes.resolved_finite, to.slopes.resolved_finite),
@@ -387,6 +411,30 @@ mod tests {
     }
 
     #[test]
+    fn one_wave_drifts_the_surface_at_stokes_speed() {
+        // One mode of a 64 m patch, wave vector 2π/64·(3, −4): a²·ω·|k| along k.
+        let grid = GridSize::new(16).unwrap();
+        let (n, patch) = (grid.n(), 64.0f32);
+        let (col, row) = (n / 2 + 3, n / 2 - 4);
+        let mut p = vec![0.0f32; n * n];
+        let power = 0.01f32;
+        p[row * n + col] = power;
+        let m = Moments::of_rows(&p, grid, patch, 0..n);
+        let (kx, kz) = wave_vector(col, row, grid, patch);
+        let k = kx.hypot(kz);
+        let a2 = 4.0 * power as f64;
+        let speed = a2 * (crate::sim::params::GRAVITY as f64 * k).sqrt() * k;
+        let [ux, uz] = m.stokes_drift;
+        assert!(
+            (ux.hypot(uz) / speed - 1.0).abs() < 1e-6,
+            "{ux} {uz} vs {speed}"
+        );
+        assert!((ux * kz - uz * kx).abs() < 1e-9 * speed && ux * kx > 0.0);
+        // The variance is a²/2.
+        assert!((m.variance / (a2 / 2.0) - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
     fn blended_variance_is_linear_in_the_weight() {
         let mut cfg = OceanConfig::default_cascades(32).unwrap();
         let spec = cfg.cascade_specs()[1];
@@ -421,6 +469,10 @@ mod tests {
             let m = Moments::of_rows(&mixed, spec.grid, spec.patch, 0..n);
             let l = m0.lerp(m1, w as f64);
             assert!((m.variance / l.variance - 1.0).abs() < 1e-5, "{w}");
+            assert!(
+                (m.stokes_drift[0] / l.stokes_drift[0] - 1.0).abs() < 1e-5,
+                "{w}"
+            );
             let mix = Mix {
                 from: &from,
                 to: &to,

@@ -29,6 +29,15 @@
 //! the surface breaks is the Jacobian's, how much foam the breaking makes is the wind's.
 //! `tests/sea_state.rs` measures the resulting coverage against Monahan's law.
 //!
+//! **Drift.** Foam floats: it rides the waves' orbital motion (the lattice is a rest-position
+//! field, displaced with the surface like every other) and drifts with the surface's mean
+//! current (the Stokes drift plus the wind-driven current, [`crate::sim::drift`]), which no
+//! linear displacement holds. So the lattices are fixed in the drifting water, not in the world:
+//! lattice point (i, j) sits at rest position (i·s, j·s) + [`Whitecaps::drift`], the distance the
+//! drift has carried the surface since the start. The Jacobian is sampled there, so foam made
+//! at a crest stays with the water that broke and moves downwind with it (without the numerical
+//! diffusion that resampling a world-fixed map every step would add).
+//!
 //! Storage is toroidal: lattice point (i, j) lives at texel (i mod T, j mod T), so the GPU
 //! samples the map with REPEAT addressing at uv = (x/s + ½)/T and a moving viewer only resets
 //! the rows and columns that enter the window. Coverage is published as an R8 mip chain so
@@ -38,7 +47,7 @@ mod sampling;
 
 use rayon::prelude::*;
 
-use sampling::{add_cascade, mip_for, DisplacementMips};
+use sampling::{add_cascade, mip_for, DisplacementMips, Lattice};
 
 use crate::sim::grid::GridSize;
 use crate::sim::params::FoamParams;
@@ -70,7 +79,7 @@ pub struct WhitecapLevel {
     /// Lattice spacing (m).
     pub spacing: f32,
     /// Lattice index of the window's first point along x and z: the window holds points
-    /// origin..origin + [`WHITECAP_TEXELS`], at world (i·s, j·s) on the rest surface.
+    /// origin..origin + [`WHITECAP_TEXELS`], at rest positions (i·s, j·s) + [`Whitecaps::drift`].
     pub origin: [i32; 2],
     /// Coverage in [0, 1] as R8, toroidal, with its mip chain ([`crate::sim::pack::mip_offset`]
     /// of a [`WHITECAP_TEXELS`] grid).
@@ -84,6 +93,9 @@ pub struct WhitecapLevel {
 pub struct Whitecaps {
     /// Levels, finest first.
     pub levels: [WhitecapLevel; WHITECAP_LEVELS],
+    /// How far (x, z) (m) the surface's mean drift has carried the lattices since the start:
+    /// the rest position of lattice point (0, 0) of every level.
+    pub drift: [f32; 2],
 }
 
 impl Default for Whitecaps {
@@ -96,6 +108,7 @@ impl Default for Whitecaps {
                 coverage: vec![0; chain],
                 mean: 0.0,
             }),
+            drift: [0.0; 2],
         }
     }
 }
@@ -105,6 +118,7 @@ impl Whitecaps {
     /// whose window holds it (None outside every window).
     pub fn coverage_at(&self, x: f32, z: f32) -> Option<f32> {
         let t = WHITECAP_TEXELS as i32;
+        let (x, z) = (x - self.drift[0], z - self.drift[1]);
         self.levels.iter().find_map(|l| {
             let (i, j) = (
                 (x / l.spacing).round() as i32,
@@ -138,6 +152,8 @@ pub struct WhitecapState {
     /// Per level, Σ Dx and Σ Dz at the window's lattice points plus a one-point border,
     /// row-major ((T + 2)² each).
     xz: [Vec<[f32; 2]>; WHITECAP_LEVELS],
+    /// [`Whitecaps::drift`], accumulated in f64.
+    drift: [f64; 2],
     /// One cascade's (Dx, Dz) as f32 and the mips the levels sample (see `sampling`).
     mips: DisplacementMips,
 }
@@ -150,6 +166,7 @@ impl WhitecapState {
             foam: std::array::from_fn(|_| vec![0.0; t * t]),
             origin: [None; WHITECAP_LEVELS],
             xz: std::array::from_fn(|_| vec![[0.0; 2]; (t + 2) * (t + 2)]),
+            drift: [0.0; 2],
             mips: DisplacementMips::new(grid),
         }
     }
@@ -166,6 +183,9 @@ pub struct WhitecapInput<'a> {
     pub foam: FoamParams,
     /// Wind speed at 10 m (m/s): foam production scales with the wind stress, U².
     pub wind_speed: f32,
+    /// The surface's mean drift (x, z) (m/s, [`crate::sim::drift::surface_drift`]): carries the
+    /// foam downwind.
+    pub drift: [f32; 2],
     /// Seconds since the previous step (0 on the first).
     pub dt: f32,
 }
@@ -176,11 +196,18 @@ impl WhitecapState {
     /// are larger than the grid the state was made for, which sizes it once).
     pub fn update(&mut self, input: WhitecapInput<'_>, out: &mut Whitecaps) {
         let t = WHITECAP_TEXELS as i32;
+        for (d, v) in self.drift.iter_mut().zip(input.drift) {
+            *d += v as f64 * input.dt as f64;
+        }
+        let drift = self.drift.map(|d| d as f32);
+        out.drift = drift;
+        // The focus in the drifting lattices' frame.
+        let focus = [input.focus[0] - drift[0], input.focus[1] - drift[1]];
         let origins: [[i32; 2]; WHITECAP_LEVELS] = std::array::from_fn(|l| {
             let s = WHITECAP_SPACING[l];
             [
-                (input.focus[0] / s).floor() as i32 - t / 2,
-                (input.focus[1] / s).floor() as i32 - t / 2,
+                (focus[0] / s).floor() as i32 - t / 2,
+                (focus[1] / s).floor() as i32 - t / 2,
             ]
         });
         for xz in &mut self.xz {
@@ -192,7 +219,12 @@ impl WhitecapState {
             self.mips.load(c, mips.into_iter().max().unwrap_or(0));
             for (l, xz) in self.xz.iter_mut().enumerate() {
                 let level = self.mips.level(mips[l], c.patch);
-                add_cascade(level, origins[l], WHITECAP_SPACING[l], xz);
+                let lattice = Lattice {
+                    origin: origins[l],
+                    spacing: WHITECAP_SPACING[l],
+                    drift,
+                };
+                add_cascade(level, lattice, xz);
             }
         }
         for (l, level) in out.levels.iter_mut().enumerate() {
@@ -354,6 +386,7 @@ mod tests {
                 focus: [3.0, -7.0],
                 foam: FoamParams::default(),
                 wind_speed: 10.0,
+                drift: [0.0; 2],
                 dt: 0.1,
             }
         }
@@ -380,6 +413,59 @@ mod tests {
         // Mips hold the average.
         let last = *l0.coverage.last().unwrap() as f32 / 255.0;
         assert!((last - l0.mean).abs() < 0.02, "{last} vs {}", l0.mean);
+    }
+
+    #[test]
+    fn foam_drifts_with_the_surface() {
+        let config = OceanConfig::single(16, 10.0).unwrap();
+        let mut cascades = flat(&config);
+        let mut state = WhitecapState::new(config.grid);
+        let mut out = Whitecaps::default();
+        fn input(c: &[CascadeSurface], drift: [f32; 2]) -> WhitecapInput<'_> {
+            WhitecapInput {
+                cascades: c,
+                focus: [3.0, -7.0],
+                foam: FoamParams::default(),
+                wind_speed: 10.0,
+                drift,
+                dt: 0.1,
+            }
+        }
+        // Foam in bands across x (as in the test above), made while the surface stands still.
+        let n = config.grid.n();
+        let k = std::f32::consts::TAU / 10.0;
+        let mut compressed = flat(&config);
+        for (i, d) in compressed[0].displacement_f16.iter_mut().enumerate() {
+            let x = (i % n) as f32 * 10.0 / n as f32;
+            d[0] = f16::from_f32(-1.5 * (k * x).sin());
+        }
+        for _ in 0..20 {
+            state.update(input(&compressed, [0.0; 2]), &mut out);
+        }
+        let xs: Vec<f32> = (0..40).map(|i| i as f32 * 0.5).collect();
+        let before: Vec<f32> = xs
+            .iter()
+            .map(|&x| out.coverage_at(x, -7.0).unwrap())
+            .collect();
+        // Then a calm sea (no new foam) drifting 1.5 m/s along x for 2 s: the bands are 3 m
+        // downstream, faded by the decay, and not where they were.
+        for c in &mut cascades {
+            c.displacement_f16.fill([f16::ZERO; 4]);
+        }
+        for _ in 0..20 {
+            state.update(input(&cascades, [1.5, 0.0]), &mut out);
+        }
+        assert!((out.drift[0] - 3.0).abs() < 1e-4 && out.drift[1] == 0.0);
+        let keep = (-FoamParams::default().decay * 2.0).exp();
+        let (mut moved, mut stayed) = (0.0f32, 0.0f32);
+        for (&x, &b) in xs.iter().zip(&before) {
+            let after = out.coverage_at(x + 3.0, -7.0).unwrap();
+            moved = moved.max((after - b * keep).abs());
+            stayed = stayed.max((out.coverage_at(x, -7.0).unwrap() - b * keep).abs());
+        }
+        assert!(before.iter().any(|&b| b * keep > 0.2), "{before:?}");
+        assert!(moved < 2.0 / 255.0, "{moved}");
+        assert!(stayed > 0.2, "{stayed}");
     }
 
     #[test]

@@ -154,20 +154,39 @@ fn split(u: f32, mask: i64) -> (usize, f32) {
     ((floor & mask) as usize, u - floor as f32)
 }
 
-/// Adds the bilinear (Dx, Dz) of one cascade's mip `view` at lattice points
-/// (origin − 1 .. origin + T + 1)·s to `xz`, separably: the lattice columns' texel columns and
-/// weights are the same in every row (computed once), so each texel row is sampled along x once
+/// Where a level's window of lattice points lies: points origin .. origin + T (and a one-point
+/// border) at rest positions (i·s, j·s) + drift.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Lattice {
+    /// Lattice index of the window's first point (x, z).
+    pub origin: [i32; 2],
+    /// Spacing s (m).
+    pub spacing: f32,
+    /// Rest position of lattice point (0, 0) (m): how far the surface has drifted.
+    pub drift: [f32; 2],
+}
+
+impl Lattice {
+    /// Rest position along axis `a` of the window's border point `k` (index origin − 1 + k).
+    #[inline]
+    fn at(&self, a: usize, k: usize) -> f32 {
+        (self.origin[a] - 1 + k as i32) as f32 * self.spacing + self.drift[a]
+    }
+}
+
+/// Adds the bilinear (Dx, Dz) of one cascade's mip `view` at the points of `lattice` (with
+/// their border) to `xz`, separably: the lattice columns' texel columns and weights are the
+/// same in every row (computed once), so each texel row is sampled along x once
 /// ([`HeldRows`]) and a lattice row blends two of them. The same operations in the same order
 /// as a bilinear per point, so the same bits.
-pub(super) fn add_cascade(view: MipView<'_>, origin: [i32; 2], s: f32, xz: &mut [[f32; 2]]) {
+pub(super) fn add_cascade(view: MipView<'_>, lattice: Lattice, xz: &mut [[f32; 2]]) {
     const SIDE: usize = WHITECAP_TEXELS + 2;
     let n = view.side;
     let mask = n as i64 - 1;
     let (scale, offset, dxz) = (view.scale, view.offset, view.texels);
-    let x0 = (origin[0] - 1) as f32 * s;
     let mut cols = [(0usize, 0usize, 0.0f32); SIDE];
     for (i, col) in cols.iter_mut().enumerate() {
-        let (c0, tu) = split((x0 + i as f32 * s) * scale - offset, mask);
+        let (c0, tu) = split(lattice.at(0, i) * scale - offset, mask);
         *col = (c0, (c0 + 1) & (n - 1), tu);
     }
     // Texel row `r` sampled at the lattice's columns, linear in x.
@@ -189,8 +208,7 @@ pub(super) fn add_cascade(view: MipView<'_>, origin: [i32; 2], s: f32, xz: &mut 
             };
             for (i, row) in rows.chunks_exact_mut(SIDE).enumerate() {
                 let r = task * ROWS_PER_TASK + i;
-                let z = (origin[1] - 1 + r as i32) as f32 * s;
-                let (r0, tv) = split(z * scale - offset, mask);
+                let (r0, tv) = split(lattice.at(1, r) * scale - offset, mask);
                 let r1 = (r0 + 1) & (n - 1);
                 let (top, bottom) = held.pair(r0, r1, &sample);
                 for ((acc, t), b) in row.iter_mut().zip(top).zip(bottom) {
@@ -241,17 +259,15 @@ impl HeldRows {
 
 /// [`add_cascade`] one point at a time: the reference its separable bits are tested against.
 #[cfg(test)]
-fn add_cascade_per_point(view: MipView<'_>, origin: [i32; 2], s: f32, xz: &mut [[f32; 2]]) {
+fn add_cascade_per_point(view: MipView<'_>, lattice: Lattice, xz: &mut [[f32; 2]]) {
     let side = WHITECAP_TEXELS + 2;
     let n = view.side;
     let mask = n as i64 - 1;
     for (r, row) in xz.chunks_mut(side).enumerate() {
-        let z = (origin[1] - 1 + r as i32) as f32 * s;
-        let (r0, tv) = split(z * view.scale - view.offset, mask);
+        let (r0, tv) = split(lattice.at(1, r) * view.scale - view.offset, mask);
         let r1 = (r0 + 1) & (n - 1);
-        let x0 = (origin[0] - 1) as f32 * s;
         for (i, acc) in row.iter_mut().enumerate() {
-            let (c0, tu) = split((x0 + i as f32 * s) * view.scale - view.offset, mask);
+            let (c0, tu) = split(lattice.at(0, i) * view.scale - view.offset, mask);
             let c1 = (c0 + 1) & (n - 1);
             let at = |r: usize, c: usize| view.texels[r * n + c];
             let (a, b, e, f) = (at(r0, c0), at(r0, c1), at(r1, c0), at(r1, c1));
@@ -327,8 +343,13 @@ mod tests {
                             vec![[0.25f32; 2]; side * side],
                             vec![[0.25; 2]; side * side],
                         );
-                        add_cascade(level, origin, s, &mut got);
-                        add_cascade_per_point(level, origin, s, &mut want);
+                        let lattice = Lattice {
+                            origin,
+                            spacing: s,
+                            drift: [0.0; 2],
+                        };
+                        add_cascade(level, lattice, &mut got);
+                        add_cascade_per_point(level, lattice, &mut want);
                         assert!(
                             bits(&got) == bits(&want),
                             "{keep:?} patch {} {focus:?} level {l}",
@@ -355,15 +376,24 @@ mod tests {
         let side = WHITECAP_TEXELS + 2;
         for m in 0..=deepest(64) {
             for &s in &WHITECAP_SPACING {
-                for origin in [[-128, -128], [1000, -37], [-90_000, 41_000]] {
+                for (origin, drift) in [
+                    ([-128, -128], [0.0, 0.0]),
+                    ([1000, -37], [0.123, -7.9]),
+                    ([-90_000, 41_000], [-1234.5, 17.25]),
+                ] {
                     let view = mips.level(m, c.patch);
                     let (mut got, mut want) =
                         (vec![[0.5f32; 2]; side * side], vec![[0.5; 2]; side * side]);
-                    add_cascade(view, origin, s, &mut got);
-                    add_cascade_per_point(view, origin, s, &mut want);
+                    let lattice = Lattice {
+                        origin,
+                        spacing: s,
+                        drift,
+                    };
+                    add_cascade(view, lattice, &mut got);
+                    add_cascade_per_point(view, lattice, &mut want);
                     assert!(
                         bits(&got) == bits(&want),
-                        "mip {m}, spacing {s}, origin {origin:?}"
+                        "mip {m}, spacing {s}, origin {origin:?}, drift {drift:?}"
                     );
                 }
             }
@@ -422,7 +452,12 @@ mod tests {
             let mut mips = DisplacementMips::new(grid);
             mips.load(&c, m);
             let mut xz = vec![[0.0f32; 2]; (WHITECAP_TEXELS + 2).pow(2)];
-            add_cascade(mips.level(m, c.patch), [-128, -128], s, &mut xz);
+            let lattice = Lattice {
+                origin: [-128, -128],
+                spacing: s,
+                drift: [0.0; 2],
+            };
+            add_cascade(mips.level(m, c.patch), lattice, &mut xz);
             xz.iter().map(|p| p[0].abs()).fold(0.0, f32::max)
         };
         // 1.6 m: beyond the 2 m lattice's Nyquist (4 m), within the 0.5 m one's (1 m).
