@@ -61,6 +61,9 @@ layout(set = 0, binding = 0, std140) uniform Globals {
     // xy: how far (m) the surface's mean drift has carried the foam (`sim::whitecaps`): the
     // whitecap maps, the foam pattern and the bubbles are drawn at rest position - xy.
     vec4 foam_drift;
+    // x: the most taps the normal maps' anisotropic sampler takes now (1: the trilinear
+    // sampler is read; `render::ocean::anisotropy`).
+    vec4 filtering;
 } g;
 
 // The interaction layer (`render::ocean::interaction`): h (m), ∂h/∂x, ∂h/∂z, foam; clamped,

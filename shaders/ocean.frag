@@ -60,6 +60,9 @@
 #define TAKES_FOAM(cond) (COST_PATH == 4)
 #define TAKES_DETAIL(cond) (COST_PATH == 6)
 #define RESAMPLES(c, cond) ((c) >= COST_CASCADES - COST_RESAMPLED)
+// A cost variant reads the trilinear sampler: an anisotropic sample's extra taps are texture
+// work the counting variant tallies (COUNT_ANISO_TAPS), not instructions.
+#define READS_ANISOTROPIC(cond) false
 #else
 #define UNROLL_SUBSAMPLES [[dont_unroll]]
 #define CASCADE_COUNT int(g.params.x)
@@ -69,6 +72,13 @@
 #define TAKES_FOAM(cond) (cond)
 #define TAKES_DETAIL(cond) (cond)
 #define RESAMPLES(c, cond) (cond)
+#define READS_ANISOTROPIC(cond) (cond)
+#endif
+#ifdef COUNT_PATHS
+// The counting variant reads the trilinear sampler too and tallies the taps the anisotropic
+// one would take (lavapipe 22.3 filters anisotropically ~250x slower than trilinearly).
+#undef READS_ANISOTROPIC
+#define READS_ANISOTROPIC(cond) false
 #endif
 // Under fixed foveation (a fragment density map, `FRAGMENT_DENSITY`), a peripheral fragment
 // covers several pixels (gl_FragSizeEXT) and is shown at that coarser rate anyway: its surface
@@ -87,6 +97,7 @@ const uint COUNT_FOAM = 3u;
 const uint COUNT_PLAIN = 4u;
 const uint COUNT_RESAMPLES = 5u;
 const uint COUNT_DETAIL = 6u;
+const uint COUNT_ANISO_TAPS = 7u;
 #ifdef COUNT_PATHS
 // A shader with side effects would otherwise run before the depth test: keep it where the
 // real one runs (it writes no depth and discards nothing, so early tests change no image).
@@ -100,6 +111,9 @@ layout(set = 0, binding = 6, std430) buffer PathTally {
 #endif
 
 layout(set = 0, binding = 2) uniform mediump sampler2DArray u_normal_foam;
+// The same through the anisotropic sampler (`render::ocean::anisotropy`; the trilinear one
+// where the device has none), read for the pixel's own samples when g.filtering.x > 1.
+layout(set = 0, binding = 8) uniform mediump sampler2DArray u_normal_aniso;
 // Whitecap coverage of the whole surface, one layer per level, toroidal (`sim::whitecaps`).
 layout(set = 0, binding = 3) uniform mediump sampler2DArray u_whitecaps;
 
@@ -306,6 +320,20 @@ mediump float toksvig_variance(mediump float s) {
     mediump float p = 0.29176 + u * (-0.03476 + u * (0.30023 + u * (-0.36776 + u * 0.30845)));
     return u * u * p;
 }
+
+#ifdef COUNT_PATHS
+// The taps an anisotropic sample of cascade `c` takes over the footprint (`dx`, `dy`, m) (the
+// Vulkan specification's model: the longer derivative over the shorter, in texels, rounded up,
+// at most g.filtering.x; one where the texture is magnified), for the GPU budget.
+uint anisotropic_taps(vec2 dx, vec2 dy, int c) {
+    float texels = g.params.y * g.inv_patch_size[c];
+    float a = length(dx) * texels;
+    float b = length(dy) * texels;
+    float major = max(a, b);
+    float minor = max(min(a, b), 1.0);
+    return major <= 1.0 ? 1u : uint(min(ceil(major / minor), g.filtering.x));
+}
+#endif
 
 // One cascade's normal-map texel decoded: its slope (n.xz / n.y), foam (eq. 51), smoothness
 // (eq. 53) and the slope variance its filtering hid (Toksvig, beyond the level-0 material's).
@@ -608,10 +636,23 @@ void main() {
         COUNT(COUNT_DETAIL, 1u);
         p.layer_slope += detail_slope(v_xz, dx, dy);
     }
+    // Anisotropic or trilinear: a uniform choice, so the implicit derivatives stay defined.
+    bool anisotropic = READS_ANISOTROPIC(g.filtering.x > 1.0);
     UNROLL for (int c = 0; c < MAX_CASCADES; ++c) {
         if (c < cascades) {
-            vec2 uv = v_xz * g.inv_patch_size[c] + half_texel;
-            p.c[c] = decode_cascade(texture(u_normal_foam, vec3(uv, float(c))));
+            vec3 at = vec3(v_xz * g.inv_patch_size[c] + half_texel, float(c));
+            mediump vec4 texel;
+            if (anisotropic) {
+                texel = texture(u_normal_aniso, at);
+            } else {
+                texel = texture(u_normal_foam, at);
+            }
+#ifdef COUNT_PATHS
+            if (g.filtering.x > 1.0) {
+                COUNT(COUNT_ANISO_TAPS, anisotropic_taps(dx, dy, c) - 1u);
+            }
+#endif
+            p.c[c] = decode_cascade(texel);
         }
     }
     Water w = water_of(p, cascades);

@@ -36,6 +36,14 @@ fn bad_sizes_frames_and_captures_are_rejected() {
     }
     assert_rejected(&["headless", "--frames", "0", "--out", out], &["frames"]);
     assert_rejected(
+        &["headless", "--anisotropy", "3", "--out", out],
+        &["anisotropy", "1 (off), 2, 4, 8 or 16"],
+    );
+    assert_rejected(
+        &["gpu-budget", "--anisotropy", "32", "--views", "down"],
+        &["anisotropy", "1 (off), 2, 4, 8 or 16"],
+    );
+    assert_rejected(
         &["headless", "--settle=-1", "--out", out],
         &["settle", "[0, 600]"],
     );

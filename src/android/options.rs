@@ -10,6 +10,7 @@ use crate::app::{
 use crate::base::ParamError;
 use crate::lod::{LodSettings, OceanSize, QualityPreset};
 use crate::physics::{BodyCount, DEFAULT_DECK_HEIGHT};
+use crate::render::ocean::Anisotropy;
 use crate::render::{RendererSettings, Validation};
 use crate::sim::workers::recommended_workers;
 use crate::sim::OceanConfig;
@@ -53,7 +54,10 @@ pub fn run_options(
         ocean: OceanConfig::default_cascades(defaults.grid as u32)?,
         threads,
         lod: LodSettings::new(preset, OceanSize::new(QUEST_OCEAN_SIZE)?),
-        renderer: RendererSettings::default(),
+        renderer: RendererSettings {
+            anisotropy: Anisotropy::X4,
+            ..RendererSettings::default()
+        },
         capture: Vec::new(),
         warmup: WARMUP_FRAMES,
         floating: Some(FloatOptions {

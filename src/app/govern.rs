@@ -243,6 +243,7 @@ impl Governed {
         xr: &mut dyn FrameLoop,
     ) -> Result<(), RenderError> {
         renderer.set_specular_aa(self.specular_aa && level < QualityStep::NoSupersampling);
+        renderer.set_anisotropic(level < QualityStep::NoSupersampling);
         let boost = level >= QualityStep::FoveationUp;
         if !xr.set_foveation_boost(boost) && boost && xr.governor_caps().foveation {
             log::warn!("GPU-time governor: the foveation change was not applied");

@@ -7,7 +7,7 @@ use vr_ocean::app::{self as app, GovernorOptions, GpuFault, RunOptions, SoundOpt
 use vr_ocean::base::ParamError;
 use vr_ocean::lod::{LodSettings, OceanSize, QualityPreset};
 use vr_ocean::physics::{BodyCount, PhysicsError};
-use vr_ocean::render::ocean::default_sun;
+use vr_ocean::render::ocean::{default_sun, Anisotropy};
 use vr_ocean::render::sky::SunSky;
 use vr_ocean::render::{
     ContextOptions, GpuContext, Msaa, RendererSettings, StereoMode, Validation,
@@ -217,6 +217,11 @@ pub struct ViewArgs {
     /// sparkling.
     #[arg(long, value_enum, default_value_t = OnOff::On)]
     pub specular_aa: OnOff,
+    /// Anisotropic filtering of the waves' normal maps: most taps along a pixel's footprint
+    /// (1 = off, 2, 4, 8 or 16; at most what the device has) [default: 4 on a GPU, 1 on a CPU
+    /// Vulkan device (lavapipe), which filters every tap in software].
+    #[arg(long)]
+    pub anisotropy: Option<u32>,
     /// Floating bodies (buoys, crates, a small boat) spawned on the water around the deck,
     /// 0 to 64 (0 = none).
     #[arg(long, default_value_t = DEFAULT_BODIES)]
@@ -311,6 +316,14 @@ impl ViewArgs {
                     ))?,
                 },
                 specular_aa: self.specular_aa == OnOff::On,
+                anisotropy: match self.anisotropy {
+                    None => Anisotropy::X4,
+                    Some(n) => Anisotropy::from_taps(n).ok_or(ParamError::new(
+                        "anisotropy",
+                        n as f64,
+                        "1 (off), 2, 4, 8 or 16 taps",
+                    ))?,
+                },
                 sun: self.sun()?,
                 ..RendererSettings::default()
             },
@@ -401,10 +414,14 @@ impl ViewArgs {
     }
 
     /// The MSAA to use on `gpu`: as asked, else 4, or 1 on a CPU Vulkan device (lavapipe
-    /// rasterizes every sample, so 4 cost it about 4×; a tile-based GPU resolves on chip).
+    /// rasterizes every sample, so 4 cost it about 4×; a tile-based GPU resolves on chip);
+    /// likewise the anisotropy (as asked, else 4, or off on a CPU device).
     pub fn resolve_msaa(&self, opts: &mut RunOptions, gpu: &GpuContext) {
         if self.msaa.is_none() && gpu.cpu_device {
             opts.renderer.msaa = Msaa::X1;
+        }
+        if self.anisotropy.is_none() && gpu.cpu_device {
+            opts.renderer.anisotropy = Anisotropy::Off;
         }
     }
 

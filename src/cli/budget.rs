@@ -15,6 +15,7 @@ use super::CmdResult;
 use vr_ocean::android::options::run_options;
 use vr_ocean::app::{self, NoHooks};
 use vr_ocean::render::budget::{self, HeadsetModel, PathCosts, StandardView, ViewEstimate};
+use vr_ocean::render::ocean::Anisotropy;
 use vr_ocean::render::{ContextOptions, Msaa, StereoMode, Validation};
 use vr_ocean::xr::desktop::{CameraPath, EyeSize, HeadlessXr};
 use vr_ocean::xr::openxr::quest::Headset;
@@ -39,6 +40,10 @@ pub struct GpuBudgetArgs {
     /// Turn the specular anti-aliasing off (to see what it costs).
     #[arg(long)]
     pub no_specular_aa: bool,
+    /// Anisotropic filtering's most taps (1 = off; the apps' default on a headset is 4), to
+    /// see what it costs. The counting pass reads the trilinear sampler and tallies the taps.
+    #[arg(long, default_value_t = 4)]
+    pub anisotropy: u32,
     /// Count the cost variants in this folder (`cost_*.spv`, as `cargo xtask shaders` makes
     /// them) instead of the built-in ones: to compare another version of the shaders on the
     /// same counts.
@@ -163,6 +168,8 @@ fn measure(
     opts.governor.enabled = false;
     opts.renderer.count_paths = true;
     opts.renderer.specular_aa = !a.no_specular_aa;
+    opts.renderer.anisotropy = Anisotropy::from_taps(a.anisotropy)
+        .ok_or_else(|| format!("--anisotropy {}: 1 (off), 2, 4, 8 or 16 taps", a.anisotropy))?;
     opts.renderer.msaa = Msaa::from_samples(model.msaa)
         .ok_or_else(|| format!("{}: {} MSAA samples", model.name, model.msaa))?;
     let width = ((model.eye.0 as f32 * a.scale).round() as u32).max(16);

@@ -94,6 +94,9 @@ pub struct Globals {
     /// ([`crate::sim::whitecaps::Whitecaps::drift`]): the whitecap lattices, the foam pattern
     /// and the bubbles are drawn at rest position − this; z, w unused.
     pub foam_drift: [f32; 4],
+    /// Filtering: the most taps the normal maps' anisotropic sampler takes now (x; 1: the
+    /// trilinear sampler is read, [`crate::render::ocean::Anisotropy`]); y, z, w unused.
+    pub filtering: [f32; 4],
 }
 
 impl Globals {

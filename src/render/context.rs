@@ -174,6 +174,9 @@ pub struct GpuContext {
     /// Whether `fragmentStoresAndAtomics` and `pipelineStatisticsQuery` are enabled (the device
     /// has both): the GPU budget's counting pass (`render::budget`) needs them.
     pub probes: bool,
+    /// The largest sampler anisotropy (`maxSamplerAnisotropy`) when `samplerAnisotropy` is
+    /// enabled (the device has it); `None` without anisotropic filtering.
+    pub max_anisotropy: Option<f32>,
     /// Memory types of the device.
     pub memory: vk::PhysicalDeviceMemoryProperties,
     /// Device name, for logs and reports.
@@ -313,7 +316,9 @@ impl GpuContext {
         unsafe { instance.get_physical_device_features2(physical, &mut f2) };
         let probes = f2.features.fragment_stores_and_atomics == vk::TRUE
             && f2.features.pipeline_statistics_query == vk::TRUE;
+        let anisotropic = f2.features.sampler_anisotropy == vk::TRUE;
         let multiview = mv.multiview == vk::TRUE;
+        let max_anisotropy = anisotropic.then_some(props.limits.max_sampler_anisotropy);
         // SAFETY: `physical` belongs to `instance`.
         let families = unsafe { instance.get_physical_device_queue_family_properties(physical) };
         let timestamp_period = (families[queue_family as usize].timestamp_valid_bits > 0
@@ -341,7 +346,8 @@ impl GpuContext {
             .fragment_density_map_non_subsampled_images(true);
         let features = vk::PhysicalDeviceFeatures::default()
             .fragment_stores_and_atomics(probes)
-            .pipeline_statistics_query(probes);
+            .pipeline_statistics_query(probes)
+            .sampler_anisotropy(anisotropic);
         let mut dinfo = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queues)
             .enabled_extension_names(&dev_ext)
@@ -359,7 +365,9 @@ impl GpuContext {
         let memory = unsafe { instance.get_physical_device_memory_properties(physical) };
         let (entry, instance, debug) = ctx.take();
         log::info!(
-            "Vulkan device: {device_name} (multiview {multiview}, validation {})",
+            "Vulkan device: {device_name} (multiview {multiview}, anisotropic filtering {}, \
+             validation {})",
+            max_anisotropy.map_or("none".to_string(), |a| format!("up to {a}x")),
             log.is_some()
         );
         Ok(Self {
@@ -374,6 +382,7 @@ impl GpuContext {
             sample_counts,
             fragment_density_map,
             probes,
+            max_anisotropy,
             memory,
             device_name,
             cpu_device: props.device_type == vk::PhysicalDeviceType::CPU,

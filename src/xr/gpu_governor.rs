@@ -41,7 +41,7 @@ use ash::vk;
 pub enum QualityStep {
     /// Everything as configured.
     Full,
-    /// The specular AA's supersampling off.
+    /// The specular AA's supersampling and the normal maps' anisotropic filtering off.
     NoSupersampling,
     /// One fixed-foveation level higher.
     FoveationUp,

@@ -191,13 +191,15 @@ const STEPS: &[Step] = &[
     },
     Step {
         name: "openxr (Monado)",
-        header: "OpenXR tests against Monado (trixie chroot, null compositor, simulated HMD; needs root)",
+        header: "OpenXR tests against Monado (trixie chroot, null compositor, simulated HMD; needs root), and anisotropic filtering on its Mesa 25 lavapipe",
         run: Run::Cargo(&[
             "test",
             "--test",
             "openxr_monado",
             "--test",
             "openxr_no_alloc",
+            "--test",
+            "render_anisotropy",
             "--",
             "--ignored",
             "--nocapture",

@@ -206,6 +206,9 @@ pub struct PathCounts {
     pub plain: u64,
     /// Water fragments near the viewer with detail slopes (`sim::detail`) looked at.
     pub detail: u64,
+    /// The taps the anisotropic sampler adds to the pixels' own normal-map samples (each one
+    /// more trilinear sample; `render::ocean::anisotropy`), summed over fragments.
+    pub aniso_taps: u64,
     /// Fragment-shader invocations of the whole pass (pipeline statistics; helper lanes and
     /// the solids' fragments included where the device counts them); 0 when unavailable.
     pub fragment_invocations: u64,
@@ -344,7 +347,9 @@ pub fn estimate(
     ];
     let kept = 1.0 - headset.foveation.saving();
     let alu: f64 = paths.iter().map(|(k, c)| k * slots(*c)).sum::<f64>() * kept;
-    let samples: f64 = paths.iter().map(|(k, c)| k * c.samples as f64).sum::<f64>() * kept;
+    // Each anisotropic tap past the first is one more trilinear sample's texture work.
+    let taps = n(counts.aniso_taps);
+    let samples: f64 = (paths.iter().map(|(k, c)| k * c.samples as f64).sum::<f64>() + taps) * kept;
     let vertex_ms =
         1e3 * VERTEX_PASSES * n(counts.vertex_invocations) * slots(costs.vertex) / gpu.alu_per_s;
     let alu_ms = 1e3 * alu / (gpu.alu_per_s * UTILIZATION);

@@ -25,6 +25,7 @@
 //! - Creation is all or nothing: when a step fails, every part made before it is destroyed
 //!   (tested by injecting a failure at each creation in turn).
 
+mod anisotropy;
 mod foam_pattern;
 mod interaction;
 mod mesh;
@@ -62,6 +63,7 @@ use crate::base::EyeView;
 use crate::lod::OceanLod;
 use crate::sim::interaction::InteractionLayer;
 use crate::sim::{GridSize, OceanConfig, Surfaces};
+pub use anisotropy::Anisotropy;
 pub use sky_map::SkyLight;
 pub use solids::{Shape, Solid, SolidInstance, SolidKind, SolidVertex, MAX_SOLIDS};
 
@@ -97,6 +99,11 @@ pub struct RendererSettings {
     /// filtered normal maps, sub-pixel normal variation) widens the sun's highlight instead of
     /// sparkling. Switchable at run time ([`OceanRenderer::set_specular_aa`]).
     pub specular_aa: bool,
+    /// Anisotropic filtering of the cascades' normal maps where the device has it
+    /// ([`Anisotropy`]; at most its `maxSamplerAnisotropy`). Off by default (a CPU device,
+    /// lavapipe, filters every tap in software); the apps ask for it on a GPU. Switchable off
+    /// and on at run time ([`OceanRenderer::set_anisotropic`]).
+    pub anisotropy: Anisotropy,
     /// Whitecaps: foam where the simulation's whole-surface coverage
     /// ([`crate::sim::whitecaps`]) says the sea breaks. Off for comparisons only.
     pub whitecaps: bool,
@@ -152,6 +159,7 @@ impl Default for RendererSettings {
             stereo: StereoMode::Multiview,
             msaa: Msaa::X4,
             specular_aa: true,
+            anisotropy: Anisotropy::Off,
             whitecaps: true,
             foam_streaks: true,
             detail: true,
@@ -252,6 +260,8 @@ pub struct OceanRenderer {
     extent: vk::Extent2D,
     /// The part of each eye image drawn (all of it unless [`OceanRenderer::set_render_area`]).
     area: vk::Rect2D,
+    /// Whether the anisotropic sampler is read ([`OceanRenderer::set_anisotropic`]).
+    anisotropic: bool,
     frame: u64,
 }
 
@@ -310,6 +320,7 @@ impl OceanRenderer {
                 offset: vk::Offset2D::default(),
                 extent: targets.extent,
             },
+            anisotropic: true,
             frame: 0,
         })
     }
@@ -358,7 +369,13 @@ impl OceanRenderer {
         } else {
             None
         };
-        slot.write_globals(&self.pass.globals(input, &self.settings, self.sky.light()));
+        let mut globals = self.pass.globals(input, &self.settings, self.sky.light());
+        globals.filtering[0] = if self.anisotropic {
+            self.textures.anisotropy_taps() as f32
+        } else {
+            1.0
+        };
+        slot.write_globals(&globals);
         let skirt_instance = slot.write_instances(input.lod)?;
         let solid_draws = slot.write_solids(input.solids)?;
         // Textures, when the simulation moved on since this slot last uploaded.
@@ -498,6 +515,22 @@ impl OceanRenderer {
     /// governor's first step): only the uniform it writes changes, nothing is rebuilt.
     pub fn set_specular_aa(&mut self, on: bool) {
         self.settings.specular_aa = on;
+    }
+
+    /// Turns the anisotropic filtering of the normal maps off or back on from the next frame
+    /// (the GPU-time governor's first step, with the supersampling): only the uniform changes.
+    pub fn set_anisotropic(&mut self, on: bool) {
+        self.anisotropic = on;
+    }
+
+    /// The most taps the normal maps' samples take now: the setting within the device's
+    /// limit while on, 1 when off or where the device has no anisotropic filtering.
+    pub fn anisotropy_taps(&self) -> u32 {
+        if self.anisotropic {
+            self.textures.anisotropy_taps()
+        } else {
+            1
+        }
     }
 
     /// Draws into `area` of each eye image from the next frame (the GPU-time governor's render

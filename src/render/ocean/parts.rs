@@ -122,7 +122,21 @@ pub(super) fn make_parts(
     let pipelines = parts
         .pipelines
         .insert(Pipelines::new(ctx, pass, settings.count_paths)?);
-    let textures = parts.textures.insert(CascadeTextures::new(ctx, config)?);
+    let taps = settings.anisotropy.on_device(ctx.max_anisotropy);
+    if taps < settings.anisotropy.taps() {
+        log::warn!(
+            "anisotropic filtering: {} taps asked for, {} drawn ({})",
+            settings.anisotropy.taps(),
+            taps,
+            ctx.max_anisotropy.map_or(
+                "the device has no samplerAnisotropy".to_string(),
+                |m| format!("the device filters up to {m}x")
+            )
+        );
+    }
+    let textures = parts
+        .textures
+        .insert(CascadeTextures::new(ctx, config, taps)?);
     let interaction = parts
         .interaction
         .insert(InteractionTexture::new(ctx, settings.interaction)?);
@@ -136,7 +150,7 @@ pub(super) fn make_parts(
     };
     let frames = settings.frames_in_flight;
     let sky = parts.sky.insert(SkyMap::new(ctx, &settings.sun)?);
-    let [disp, norm, caps] = textures.descriptors();
+    let [disp, norm, caps, norm_aniso] = textures.descriptors();
     let finest = config.patch_sizes.last().copied().unwrap_or(16.0) as f64;
     let nyquist = std::f64::consts::PI * config.grid.n() as f64 / finest;
     let foam = parts.foam.insert(FoamPattern::new(ctx, nyquist)?);
@@ -147,6 +161,7 @@ pub(super) fn make_parts(
         sky.descriptor(),
         foam.descriptor(),
         interaction.descriptor(),
+        norm_aniso,
     ];
     let tally = if settings.count_paths {
         Some(

@@ -146,6 +146,7 @@ impl PathProbe {
             plain: per_frame(t[4].into()),
             resamples: per_frame(t[5].into()),
             detail: per_frame(t[6].into()),
+            aniso_taps: per_frame(t[7].into()),
             vertex_invocations: per_frame(self.invocations[0]),
             fragment_invocations: per_frame(self.invocations[1]),
         })

@@ -70,7 +70,7 @@ impl Slots {
     pub fn new(
         ctx: &GpuContext,
         pipelines: &Pipelines,
-        images: &[vk::DescriptorImageInfo; 6],
+        images: &[vk::DescriptorImageInfo; 7],
         tally: Option<vk::DescriptorBufferInfo>,
         sizes: SlotSizes,
         frames: usize,
@@ -90,7 +90,7 @@ impl Slots {
         &mut self,
         ctx: &GpuContext,
         pipelines: &Pipelines,
-        images: &[vk::DescriptorImageInfo; 6],
+        images: &[vk::DescriptorImageInfo; 7],
         tally: Option<vk::DescriptorBufferInfo>,
         sizes: SlotSizes,
         frames: usize,
@@ -106,7 +106,7 @@ impl Slots {
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                descriptor_count: 6 * frames as u32,
+                descriptor_count: 7 * frames as u32,
             },
         ];
         let info = vk::DescriptorPoolCreateInfo::default()
@@ -143,7 +143,7 @@ impl Slot {
         ctx: &GpuContext,
         p: &Pipelines,
         descriptor_pool: vk::DescriptorPool,
-        images: &[vk::DescriptorImageInfo; 6],
+        images: &[vk::DescriptorImageInfo; 7],
         tally: Option<vk::DescriptorBufferInfo>,
         sizes: SlotSizes,
     ) -> Result<Self, RenderError> {
@@ -172,7 +172,7 @@ impl Slot {
         ctx: &GpuContext,
         p: &Pipelines,
         descriptor_pool: vk::DescriptorPool,
-        images: &[vk::DescriptorImageInfo; 6],
+        images: &[vk::DescriptorImageInfo; 7],
         tally: Option<vk::DescriptorBufferInfo>,
         sizes: SlotSizes,
     ) -> Result<(), RenderError> {
@@ -214,8 +214,7 @@ impl Slot {
             offset: 0,
             range: vk::WHOLE_SIZE,
         }];
-        let [disp, norm, caps, sky, foam, layer] = *images;
-        let (disp, norm, caps, sky, foam, layer) = ([disp], [norm], [caps], [sky], [foam], [layer]);
+        let [disp, norm, caps, sky, foam, layer, aniso] = images.map(|i| [i]);
         let write = |binding, ty| {
             vk::WriteDescriptorSet::default()
                 .dst_set(self.set)
@@ -231,6 +230,7 @@ impl Slot {
             write(4, image).image_info(&sky),
             write(5, image).image_info(&foam),
             write(7, image).image_info(&layer),
+            write(8, image).image_info(&aniso),
         ];
         // SAFETY: the set is not in use; the buffer, views and samplers are alive.
         unsafe { d.update_descriptor_sets(&writes, &[]) };

@@ -21,6 +21,10 @@ pub(super) struct CascadeTextures {
     whitecaps: Image,
     disp_sampler: vk::Sampler,
     normal_sampler: vk::Sampler,
+    /// The normal maps' anisotropic sampler (null when the renderer filters without).
+    normal_aniso_sampler: vk::Sampler,
+    /// Its most taps (1: none).
+    taps: u32,
     whitecap_sampler: vk::Sampler,
     /// Copy regions of the last staged upload: the displacement layers first, then every mip
     /// of every normal/foam layer, then every mip of every whitecap level. Sized at creation.
@@ -37,28 +41,36 @@ fn whitecap_grid() -> GridSize {
 }
 
 impl CascadeTextures {
-    /// The images and samplers for `config`'s grid and cascades. Nothing is left behind when a
-    /// step fails.
-    pub fn new(ctx: &GpuContext, config: &OceanConfig) -> Result<Self, RenderError> {
+    /// The images and samplers for `config`'s grid and cascades, the normal maps also through
+    /// an anisotropic sampler of `taps` (when above 1). Nothing is left behind when a step
+    /// fails.
+    pub fn new(ctx: &GpuContext, config: &OceanConfig, taps: u32) -> Result<Self, RenderError> {
         let mut this = Self {
             displacement: Image::null(),
             normals: Image::null(),
             whitecaps: Image::null(),
             disp_sampler: vk::Sampler::null(),
             normal_sampler: vk::Sampler::null(),
+            normal_aniso_sampler: vk::Sampler::null(),
+            taps: 1,
             whitecap_sampler: vk::Sampler::null(),
             regions: Vec::new(),
             disp_regions: 0,
             whitecap_regions: 0,
         };
-        if let Err(e) = this.create(ctx, config) {
+        if let Err(e) = this.create(ctx, config, taps) {
             this.destroy(ctx);
             return Err(e);
         }
         Ok(this)
     }
 
-    fn create(&mut self, ctx: &GpuContext, config: &OceanConfig) -> Result<(), RenderError> {
+    fn create(
+        &mut self,
+        ctx: &GpuContext,
+        config: &OceanConfig,
+        taps: u32,
+    ) -> Result<(), RenderError> {
         let n = config.grid.n() as u32;
         let cascades = config.patch_sizes.len() as u32;
         let mips = config.grid.mip_levels();
@@ -79,6 +91,11 @@ impl CascadeTextures {
         self.normals = Image::new(ctx, desc(vk::Format::R8G8B8A8_UNORM, mips))?;
         self.disp_sampler = sampler(ctx, 0.0)?;
         self.normal_sampler = sampler(ctx, mips as f32)?;
+        if taps > 1 {
+            let address = [vk::SamplerAddressMode::REPEAT; 2];
+            self.normal_aniso_sampler = sampler_of(ctx, mips as f32, address, taps as f32)?;
+            self.taps = taps;
+        }
         let wg = whitecap_grid();
         let side = WHITECAP_TEXELS as u32;
         self.whitecaps = Image::new(
@@ -107,9 +124,15 @@ impl CascadeTextures {
         per_cascade * config.patch_sizes.len() as u64 + whitecaps
     }
 
+    /// The most taps of the normal maps' anisotropic sampler (1: there is none).
+    pub fn anisotropy_taps(&self) -> u32 {
+        self.taps
+    }
+
     /// The descriptor infos of the displacement (binding 1), normal/foam (binding 2) and
-    /// whitecap (binding 3) arrays.
-    pub fn descriptors(&self) -> [vk::DescriptorImageInfo; 3] {
+    /// whitecap (binding 3) arrays, and of the normal/foam array through the anisotropic
+    /// sampler (binding 8; the trilinear one when there is none).
+    pub fn descriptors(&self) -> [vk::DescriptorImageInfo; 4] {
         let info = |sampler, image_view| vk::DescriptorImageInfo {
             sampler,
             image_view,
@@ -119,6 +142,14 @@ impl CascadeTextures {
             info(self.disp_sampler, self.displacement.view),
             info(self.normal_sampler, self.normals.view),
             info(self.whitecap_sampler, self.whitecaps.view),
+            info(
+                if self.normal_aniso_sampler == vk::Sampler::null() {
+                    self.normal_sampler
+                } else {
+                    self.normal_aniso_sampler
+                },
+                self.normals.view,
+            ),
         ]
     }
 
@@ -214,6 +245,7 @@ impl CascadeTextures {
         unsafe {
             ctx.device.destroy_sampler(self.disp_sampler, None);
             ctx.device.destroy_sampler(self.normal_sampler, None);
+            ctx.device.destroy_sampler(self.normal_aniso_sampler, None);
             ctx.device.destroy_sampler(self.whitecap_sampler, None);
         }
         self.disp_sampler = vk::Sampler::null();
@@ -259,7 +291,20 @@ pub(super) fn sampler_with(
     max_lod: f32,
     address: [vk::SamplerAddressMode; 2],
 ) -> Result<vk::Sampler, RenderError> {
+    sampler_of(ctx, max_lod, address, 1.0)
+}
+
+/// [`sampler_with`], anisotropic up to `anisotropy` taps when above 1 (the device must have
+/// `samplerAnisotropy` enabled).
+fn sampler_of(
+    ctx: &GpuContext,
+    max_lod: f32,
+    address: [vk::SamplerAddressMode; 2],
+    anisotropy: f32,
+) -> Result<vk::Sampler, RenderError> {
     let info = vk::SamplerCreateInfo::default()
+        .anisotropy_enable(anisotropy > 1.0)
+        .max_anisotropy(anisotropy.max(1.0))
         .mag_filter(vk::Filter::LINEAR)
         .min_filter(vk::Filter::LINEAR)
         .mipmap_mode(vk::SamplerMipmapMode::LINEAR)
