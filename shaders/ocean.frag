@@ -1,15 +1,17 @@
 #version 450
 // Water shading in linear HDR (kcd/m², the sky's units), exposed and tonemapped here (Khronos
 // PBR Neutral) into the sRGB target (issue 14), after the Atlas talk's water model:
-// - normals from the cascades' RGBA8 mip chains (eq. 50-53) and, near the viewer, the waves
-//   shorter than the finest cascade (`sim::detail`, where a pixel still sees them);
+// - normals from the cascades' RGBA8 mip chains (eq. 50-53; the pixel's own samples
+//   anisotropic where the device has it, `render::ocean::anisotropy`) and, near the viewer, the
+//   waves shorter than the finest cascade (`sim::detail`, where a pixel still sees them);
 // - the sky reflected from the prefiltered environment map (mip by roughness), weighted by
 //   Fresnel averaged over the slopes the normal does not show (Bruneton et al. 2010), the rest
 //   going to the water body: back-scattered light (greener at grazing views), bubbles below
 //   the foam (parallax), and the sun through thin crests, tinted by water's absorption;
 // - a GGX sun highlight with height-correlated Smith masking-shadowing (Hammon's form);
 // - foam: the whitecap coverage thresholds a tiling two-scale pattern (a share c of the
-//   surface turns white), rougher water around it; fog to the sky at the horizon.
+//   surface turns white), both carried by the surface's drift (`sim::drift`), lit on the
+//   wave's normal, rougher water around it; fog to the sky at the horizon.
 //
 // Specular anti-aliasing (g.specular_aa.y = 1). With no temporal filter in a headset, the far
 // sea must not sparkle:

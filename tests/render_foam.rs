@@ -4,6 +4,10 @@
 //! Looking straight down from 10 m, pixels map evenly onto the sea (~10 cm each), so the share
 //! of pixels whitened must match the mean coverage of the sea they show, read from the same
 //! simulation replayed step by step on the CPU.
+//!
+//! Issue 29, item 4: the foam's edges are soft, it is streaked along a strong wind, lit on the
+//! wave's normal, and it moves with the water (the waves' orbits and the surface's drift) that
+//! the replayed simulation predicts.
 
 mod common;
 
