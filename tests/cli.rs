@@ -123,6 +123,17 @@ fn simulate_reports_the_whitecaps_the_renderer_draws() {
         pct > 1.0 && pct < 30.0,
         "20 m/s after 3 s: {pct} % ({last})"
     );
+    // And how far the surface's drift carried the foam: 2-4.5 % of the wind for 3 s.
+    let drifted: f64 = last
+        .split("foam drifted")
+        .nth(1)
+        .and_then(|r| r.trim().split(' ').next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no drift in {last:?}"));
+    assert!(
+        (0.02 * 20.0 * 3.0..=0.045 * 20.0 * 3.0).contains(&drifted),
+        "20 m/s for 3 s: drifted {drifted} m ({last})"
+    );
 }
 
 #[test]

@@ -203,6 +203,13 @@ pub fn simulate(a: SimulateArgs) -> CmdResult {
                 / n;
             // The foam the renderer draws: the whole surface's whitecap coverage around the
             // viewer (the fine level's mean), or, with whitecaps off, each cascade's own foam.
+            // With whitecaps, also how far the surface's drift has carried the foam so far.
+            let drifted = s.whitecaps.drift[0].hypot(s.whitecaps.drift[1]);
+            let drift = if cfg.whitecaps {
+                format!("  foam drifted {drifted:.2} m")
+            } else {
+                String::new()
+            };
             let (foam_label, foam) = if cfg.whitecaps {
                 ("whitecaps", f64::from(s.whitecaps.levels[0].mean))
             } else {
@@ -215,7 +222,7 @@ pub fn simulate(a: SimulateArgs) -> CmdResult {
             };
             let m = s.max_displacement();
             println!(
-                "t={t:6.2}s  step {:6.2} ms  Hs(coarsest)={:5.2} m  max |D|=({:.2}, {:.2}, {:.2}) m  {foam_label} {:4.1}%  h(0,0)={:+.3} m",
+                "t={t:6.2}s  step {:6.2} ms  Hs(coarsest)={:5.2} m  max |D|=({:.2}, {:.2}, {:.2}) m  {foam_label} {:4.1}%{drift}  h(0,0)={:+.3} m",
                 wall.as_secs_f64() * 1e3 / count as f64,
                 4.0 * var.sqrt(),
                 m[0],
