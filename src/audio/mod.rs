@@ -6,7 +6,7 @@
 //! ([`listen::SeaProbe`], from `sim`'s surfaces) and the physics' impacts (handed over by the
 //! app as [`Splash`]es) into a plain [`SoundFrame`]; the [`Soundscape`] turns frames and
 //! splashes into samples; an output takes them: [`AudioOutput`] (a device through cpal, fed
-//! lock-free by [`link`], or a silent clock when there is none) or [`WavRecorder`]
+//! lock-free by [`link`](mod@link), or a silent clock when there is none) or [`WavRecorder`]
 //! (`--audio-out`, in step with the frames, deterministic).
 //!
 //! | file | job |

@@ -5,7 +5,7 @@
 //! water) add their own sources.
 //!
 //! A body's own hollow (the layer's steady answer to its own weight) is taken out of the
-//! heights it reads ([`Wakes::height_for`]): reading it, it would sink into it, deepen it and
+//! heights it reads (`Wakes::height_for`): reading it, it would sink into it, deepen it and
 //! sink further. What is taken out is at most what the layer is lowered: while the hollow
 //! forms after an entry, the body is not lifted by water that is not there. (Reading only the
 //! layer on a circle around the body instead was tried: a buoy then excited itself into

@@ -1,9 +1,10 @@
 //! `cargo xtask`: project automation for vr-ocean (std only, no dependencies).
 //!
 //! * `cargo xtask test [--quick] [--no-setup]`: the single test command. Installs what is
-//!   missing (apt packages, rustup components/targets), then runs fmt, clippy, host tests, the
-//!   frame-time tests, the OpenXR tests against Monado in a Debian trixie chroot (as root; see
-//!   [`monado`]) and the aarch64 (NEON) tests under qemu, stopping at the first failure.
+//!   missing (apt packages, rustup components/targets), then runs fmt, clippy, rustdoc, host
+//!   tests, the frame-time tests, the OpenXR tests against Monado in a Debian trixie chroot (as
+//!   root; see [`monado`]) and the aarch64 (NEON) tests under qemu, stopping at the first
+//!   failure.
 //! * `cargo xtask run [ARGS]`: `cargo run --release --bin vr-ocean -- ARGS`; without ARGS the
 //!   ocean window (headless PNGs in `./vr-ocean-headless/` when there is no display).
 //! * `cargo xtask bench [--criterion] [--no-setup] [ARGS]`: FFT benchmarks against FFTW.
@@ -126,6 +127,11 @@ enum Run {
 /// A step's preparation: returns `(name, value)` environment variables for its cargo command.
 type Prepare = fn() -> Result<Vec<(String, String)>>;
 
+/// The doc step's environment: rustdoc's warnings (links that lead nowhere) are errors.
+fn deny_doc_warnings() -> Result<Vec<(String, String)>> {
+    Ok(vec![("RUSTDOCFLAGS".into(), "-D warnings".into())])
+}
+
 const STEPS: &[Step] = &[
     Step {
         name: "fmt",
@@ -162,6 +168,13 @@ const STEPS: &[Step] = &[
         ]),
         slow: false,
         prepare: None,
+    },
+    Step {
+        name: "doc",
+        header: "rustdoc of the library (broken, ambiguous or private intra-doc links are errors)",
+        run: Run::Cargo(&["doc", "--no-deps", "--lib"]),
+        slow: false,
+        prepare: Some(deny_doc_warnings),
     },
     Step {
         name: "test (host)",

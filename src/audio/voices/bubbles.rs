@@ -17,7 +17,7 @@ pub const MINNAERT: f32 = 3.26;
 const LANES: usize = 8;
 
 /// A fixed pool of bubble grains (`N` at once, a multiple of 8; a new one beyond is
-/// dropped), stored by component so [`LANES`] grains rotate per instruction.
+/// dropped), stored by component so `LANES` grains rotate per instruction.
 #[derive(Clone, Debug)]
 pub struct Bubbles<const N: usize> {
     re: [f32; N],

@@ -30,7 +30,7 @@
 //! Multiple scattering is approximated: each point also scatters an isotropic light field made
 //! of the sunlight the air above it has scattered out of the beam (what the direct beam lost on
 //! its way down, 1 − T, is not gone but diffuse: bluish where Rayleigh took it, grey where the
-//! aerosol did), a share [`MULTIPLE_SCATTERING`] of it (after Bird & Hulstrom 1981's diffuse
+//! aerosol did), a share `MULTIPLE_SCATTERING` of it (after Bird & Hulstrom 1981's diffuse
 //! irradiance: half of Rayleigh's loss and 0.84 of the aerosol's go down). Without it a hazy
 //! sky turns orange (single scattering by reddened sunlight) where real haze is white. A model,
 //! not a measurement: its clear midday sky sits within the range of measured clear skies

@@ -12,7 +12,7 @@
 //! ∂ĥ/∂t = |k|·φ̂          ∂φ̂/∂t = −(ω²/|k|)·ĥ − p̂/ρ
 //! ```
 //!
-//! Without forcing each mode is a rotation by ω·dt, applied exactly ([`modes`]): no CFL
+//! Without forcing each mode is a rotation by ω·dt, applied exactly (`modes.rs`): no CFL
 //! limit, no numerical dispersion at any resolved wavelength, energy kept to rounding. A step
 //! is: the sources' pressure (φ −= g·dt·P, P a pressure head in metres) and impulses in space;
 //! this project's own FFT to the modes; the rotation; the FFT back; an absorbing band
