@@ -36,7 +36,10 @@
 //!
 //! The water's horizontal velocity at a body is the leaky integral of a = −g·∇η along its
 //! path (time constant [`FLOW_MEMORY_S`]): the orbital velocity of waves shorter than a few
-//! tens of seconds, with no mean current or Stokes drift (the simulation has neither).
+//! tens of seconds, with no mean current or Stokes drift: the simulation's drift
+//! (`sim::drift`, ~3 % of the wind) carries the foam, not the bodies, which would leave the
+//! deck's reach within minutes (a leeway model with the wind's push on the hull above water
+//! would come with it).
 //!
 //! [Morison]: https://en.wikipedia.org/wiki/Morison_equation
 
