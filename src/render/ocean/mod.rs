@@ -355,6 +355,7 @@ impl OceanRenderer {
         let index = (self.frame % ring as u64) as usize;
         self.frame += 1;
         let t0 = Instant::now();
+        let taps = self.anisotropy_taps();
         let slot = &mut self.slots.ring[index];
         slot.wait(ctx)?;
         if let Some(p) = self.probe.as_mut() {
@@ -370,11 +371,7 @@ impl OceanRenderer {
             None
         };
         let mut globals = self.pass.globals(input, &self.settings, self.sky.light());
-        globals.filtering[0] = if self.anisotropic {
-            self.textures.anisotropy_taps() as f32
-        } else {
-            1.0
-        };
+        globals.filtering[0] = taps as f32;
         slot.write_globals(&globals);
         let skirt_instance = slot.write_instances(input.lod)?;
         let solid_draws = slot.write_solids(input.solids)?;
