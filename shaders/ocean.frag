@@ -78,7 +78,7 @@
 #endif
 #ifdef COUNT_PATHS
 // The counting variant reads the trilinear sampler too and tallies the taps the anisotropic
-// one would take (lavapipe 22.3 filters anisotropically ~250x slower than trilinearly).
+// one would take (Mesa 22.3's lavapipe made the pass ~50x slower at 4 taps, BENCHMARKS.md).
 #undef READS_ANISOTROPIC
 #define READS_ANISOTROPIC(cond) false
 #endif
