@@ -43,8 +43,11 @@
 // `shaders/shader_table.rs` and optimized) takes fixed ones with COST_CASCADES cascades, so that
 // after inlining and unrolling its one straight-line function is that path's work: 1 the sky,
 // 2 water shaded once, 3 water with its highlight supersampled (COST_RESAMPLED of the finest
-// cascades sampled again), 4 water shaded once with foam, 5 water without anti-aliasing. The
-// counting variant (COUNT_PATHS) tallies in a storage buffer which paths the pixels took.
+// cascades sampled again), 4 water shaded once with foam, 5 water without anti-aliasing, 6
+// water shaded once with the detail near the viewer; 7 the union of every path (each branch
+// taken, as a device that runs both sides of every branch whatever its lanes chose pays for
+// each fragment: `render::budget::calibration`). The counting variant (COUNT_PATHS) tallies
+// in a storage buffer which paths the pixels took.
 // Every loop is unrolled ([[unroll]], constant bounds: cascade loops run to MAX_CASCADES and
 // skip the cascades beyond the count), so per-cascade arrays stay in registers; a loop bounded
 // by the uniform count left lavapipe indexing them in memory (3x the pass's time).
@@ -56,12 +59,20 @@
 // inlined texture code would otherwise grow fourfold.
 #define UNROLL_SUBSAMPLES [[unroll]]
 #define CASCADE_COUNT COST_CASCADES
-#define TAKES_SKY(cond) (COST_PATH == 1)
-#define TAKES_PLAIN(cond) (COST_PATH == 5)
-#define TAKES_SUPERSAMPLING(cond) (COST_PATH == 3)
-#define TAKES_FOAM(cond) (COST_PATH == 4)
-#define TAKES_DETAIL(cond) (COST_PATH == 6)
+#define TAKES_SKY(cond) (COST_PATH == 1 || COST_PATH == 7)
+#define TAKES_PLAIN(cond) (COST_PATH == 5 || COST_PATH == 7)
+#define TAKES_SUPERSAMPLING(cond) (COST_PATH == 3 || COST_PATH == 7)
+#define TAKES_FOAM(cond) (COST_PATH == 4 || COST_PATH == 7)
+#define TAKES_DETAIL(cond) (COST_PATH == 6 || COST_PATH == 7)
 #define RESAMPLES(c, cond) ((c) >= COST_CASCADES - COST_RESAMPLED)
+#if COST_PATH == 7
+// The union takes the other side of each choice too, and keeps what every side made (a
+// maximum: a few operations), so that the optimizer leaves each side's work to count.
+#define OTHERWISE if (true)
+#define SKY_DONE
+#define SET_COLOUR(x) colour = max(colour, (x))
+#define SET_OUTPUT(x) o_colour = max(o_colour, (x))
+#endif
 // A cost variant reads the trilinear sampler: an anisotropic sample's extra taps are texture
 // work the counting variant tallies (COUNT_ANISO_TAPS), not instructions.
 #define READS_ANISOTROPIC(cond) false
@@ -75,6 +86,12 @@
 #define TAKES_DETAIL(cond) (cond)
 #define RESAMPLES(c, cond) (cond)
 #define READS_ANISOTROPIC(cond) (cond)
+#endif
+#ifndef OTHERWISE
+#define OTHERWISE else
+#define SKY_DONE return;
+#define SET_COLOUR(x) colour = (x)
+#define SET_OUTPUT(x) o_colour = (x)
 #endif
 #ifdef COUNT_PATHS
 // The counting variant reads the trilinear sampler too and tallies the taps the anisotropic
@@ -100,12 +117,23 @@ const uint COUNT_PLAIN = 4u;
 const uint COUNT_RESAMPLES = 5u;
 const uint COUNT_DETAIL = 6u;
 const uint COUNT_ANISO_TAPS = 7u;
+// Then the fragments by their triangle's area on the screen: bin 0 under half a pixel, bin k
+// in [2^(k-2), 2^(k-1)) pixels, the last from 8192 pixels up, the sky's (`PathCounts::by_area`);
+// then the lanes they would be shaded on in blocks of 2, 4 and 8 pixels a side, in quarters
+// (`PathCounts::quarter_lanes`).
+const uint COUNT_AREAS = 8u;
+const int AREA_BINS = 16;
+const uint COUNT_LANES = 24u;
+const int LANE_TALLIES = 3;
+// Then by the triangle's thickness (twice its area over its longest edge): bin 0 under a
+// quarter pixel, bin k in [2^(k-3), 2^(k-2)) pixels (`PathCounts::by_thickness`).
+const uint COUNT_THICKNESS = 27u;
 #ifdef COUNT_PATHS
 // A shader with side effects would otherwise run before the depth test: keep it where the
 // real one runs (it writes no depth and discards nothing, so early tests change no image).
 layout(early_fragment_tests) in;
 layout(set = 0, binding = 6, std430) buffer PathTally {
-    uint tally[8];
+    uint tally[43];
 } t_paths;
 #define COUNT(what, n) atomicAdd(t_paths.tally[what], n)
 #else
@@ -123,6 +151,9 @@ layout(location = 0) in vec3 v_world;
 layout(location = 1) in vec2 v_xz;
 layout(location = 2) flat in vec3 v_eye;
 layout(location = 3) flat in uint v_sky;
+// The mesh's cell (m), read by the counting variant only (declared by all, so that the vertex
+// shader's output always has a reader).
+layout(location = 4) flat in float v_cell;
 layout(location = 0) out vec4 o_colour;
 
 // Smallest highlight roughness (`render::ocean::pass::MIN_ROUGHNESS`).
@@ -597,7 +628,61 @@ vec3 supersampled_surface(PixelCascades p, int cascades, bool resample[MAX_CASCA
     return sum * (1.0 / float(SUBSAMPLE_COUNT + 1));
 }
 
+#ifdef COUNT_PATHS
+// How big this fragment's triangle is on the screen: the mesh cell's legs and diagonal (rest
+// space, m) mapped to the screen by the inverse of the screen derivatives of the rest position.
+// Two things small triangles cost a device, tallied for the calibration to price
+// (`render::budget::calibration`):
+// - its area (pixels): a triangle's set-up is shared by its fragments;
+// - the lanes it is shaded on if the device shades in blocks of B x B pixels (B = 2: a GPU's
+//   quads; 4: lavapipe's), partly empty along its edges: the blocks a convex shape of area A
+//   whose bounding box is W x H pixels meets at a random place are A / B² + (W + H) / B + 1
+//   (the area of the shape grown by a block, over a block's), each B² lanes, shared by the
+//   fragments the triangle makes, about A + (W + H) / 4 under 4x MSAA (a pixel is a fragment
+//   if any of its samples is covered; exact for the calibration's grids). Added per fragment
+//   in quarters of a lane.
+const float BLOCK_SIDES[LANE_TALLIES] = float[LANE_TALLIES](2.0, 4.0, 8.0);
+void count_size() {
+    vec2 dx = dFdx(v_xz);
+    vec2 dy = dFdy(v_xz);
+    float det = dx.x * dy.y - dy.x * dx.y;
+    uint area_bin = uint(AREA_BINS - 1);
+    uint thin_bin = uint(AREA_BINS - 1);
+    float area = 1e9;
+    float widths = 0.0;
+    if (v_sky == 0u && v_cell > 0.0 && abs(det) > 1e-30) {
+        // Screen pixels per metre of rest space along x and z (the inverse Jacobian).
+        vec2 per_x = vec2(dy.y, -dx.y) / det;
+        vec2 per_z = vec2(-dy.x, dx.x) / det;
+        float h = v_cell;
+        area = 0.5 * h * h / abs(det);
+        float longest = h * max(max(length(per_x), length(per_z)), length(per_x - per_z));
+        // The triangle (0, a, b) of the cell's legs, and its bounding box.
+        vec2 a = per_x * h;
+        vec2 b = per_z * h;
+        vec2 box = max(vec2(0.0), max(a, b)) - min(vec2(0.0), min(a, b));
+        widths = box.x + box.y;
+        area_bin = uint(clamp(int(floor(log2(max(area, 1e-9)))) + 2, 0, AREA_BINS - 1));
+        float thickness = 2.0 * area / max(longest, 1e-30);
+        thin_bin = uint(clamp(int(floor(log2(max(thickness, 1e-9)))) + 3, 0, AREA_BINS - 1));
+    }
+    atomicAdd(t_paths.tally[COUNT_AREAS + area_bin], 1u);
+    atomicAdd(t_paths.tally[COUNT_THICKNESS + thin_bin], 1u);
+    float fragments = max(1.0, area + 0.25 * widths);
+    for (int i = 0; i < LANE_TALLIES; ++i) {
+        float b = BLOCK_SIDES[i];
+        float lanes = (area / (b * b) + widths / b + 1.0) * b * b;
+        // A large triangle's fragments: one lane each (its edges are a vanishing share).
+        float per_fragment = v_sky != 0u ? 1.0 : min(lanes / fragments, 1024.0);
+        atomicAdd(t_paths.tally[COUNT_LANES + uint(i)], uint(4.0 * per_fragment + 0.5));
+    }
+}
+#endif
+
 void main() {
+#ifdef COUNT_PATHS
+    count_size();
+#endif
     if (TAKES_SKY(v_sky != 0u)) {
         COUNT(COUNT_SKY, 1u);
         vec3 d = normalize(v_world);
@@ -608,7 +693,7 @@ void main() {
         } else {
             o_colour = vec4(g.params.w > 0.5 ? vec3(1.0, 0.0, 1.0) : display(c), 1.0);
         }
-        return;
+        SKY_DONE
     }
     vec3 view = v_eye - v_world;
     // One reciprocal square root for the view's direction and length.
@@ -681,7 +766,7 @@ void main() {
     }
     float height = v_world.y;
 
-    vec3 colour;
+    vec3 colour = vec3(0.0);
     SunView sv = sun_view(v);
     // The slopes no cascade shows (the observed total's remainder, `sim::spectrum::
     // unresolved_slope_variance`) roughen every sample, near or far, less what the detail draws.
@@ -690,8 +775,8 @@ void main() {
     if (TAKES_PLAIN(g.specular_aa.y < 0.5)) {
         COUNT(COUNT_PLAIN, 1u);
         Lobe l = lobe_of(sample_a2(w.smoothness, -1.0, f.coverage, tail));
-        colour = surface_light(w.n, body, sv, l);
-    } else {
+        SET_COLOUR(surface_light(w.n, body, sv, l));
+    } OTHERWISE {
         mediump float kernel = min(2.0 * PIXEL_VARIANCE * (dot(dndx, dndx) + dot(dndy, dndy)),
                            MAX_KERNEL_ALPHA2);
         if (TAKES_SUPERSAMPLING(lod > SUPERSAMPLE_FROM_LOD && FULL_DENSITY)) {
@@ -715,13 +800,13 @@ void main() {
             mediump vec3 reflected = sky_env(r, l.rough);
             vec3 own = surface_over(w.n, body, reflected, sv, l);
             // log2(3): a third of the pixel's extent.
-            colour = supersampled_surface(p, cascades, resample, dx, dy, lod - 1.5849625, body,
-                                          reflected, own, sv, tail + kernel * (1.0 / 9.0),
-                                          f.coverage);
-        } else {
+            SET_COLOUR(supersampled_surface(p, cascades, resample, dx, dy, lod - 1.5849625,
+                                            body, reflected, own, sv,
+                                            tail + kernel * (1.0 / 9.0), f.coverage));
+        } OTHERWISE {
             COUNT(COUNT_SINGLE, 1u);
             Lobe l = lobe_of(sample_a2(w.smoothness, w.filtered + tail + kernel, f.coverage, tail));
-            colour = surface_light(w.n, body, sv, l);
+            SET_COLOUR(surface_light(w.n, body, sv, l));
         }
     }
     colour = with_foam(colour, f);
@@ -732,5 +817,5 @@ void main() {
     if (fog > 0.002) {
         colour = mix(colour, fog_colour(-v), fog);
     }
-    o_colour = vec4(display(colour), 1.0);
+    SET_OUTPUT(vec4(display(colour), 1.0));
 }

@@ -48,6 +48,9 @@ layout(location = 1) out vec2 v_xz;
 layout(location = 2) flat out vec3 v_eye;
 // 1 for the sky: v_world is then a view direction.
 layout(location = 3) flat out uint v_sky;
+// The mesh's cell (m) at this vertex's rest position: the counting pass sizes its triangles on
+// the screen with it (`render::budget`; 0 for the sky).
+layout(location = 4) flat out float v_cell;
 
 // Depth of the sky (reversed Z, depth = near / distance): 500 km away, behind the farthest
 // skirt vertex (10 S <= 82 km), in front of the cleared far plane so the GREATER test passes.
@@ -99,6 +102,7 @@ void main() {
         // The sky's normalized device coordinates (the tone-map test ramp runs along x).
         v_xz = ndc;
         v_sky = 1u;
+        v_cell = 0.0;
         gl_Position = vec4(ndc, SKY_DEPTH, 1.0);
     } else {
         v_sky = 0u;
@@ -115,6 +119,7 @@ vec4 ocean_vertex(uint eye) {
         float v = float(pc.grid_v);
         p0 = i_centre + i_size * a_pos.xz;
         float h = i_size / v;
+        v_cell = h;
         d = distance(vec3(p0.x, 0.0, p0.y), g.lod_viewer.xyz);
         ivec2 ij = ivec2(round((a_pos.xz + 0.5) * v));
         p = p0 + h * morph_factor(i_morph, d) * morph_step(ij);
@@ -128,6 +133,7 @@ vec4 ocean_vertex(uint eye) {
         }
     } else {
         p0 = i_centre + a_pos.xz;
+        v_cell = i_vertex_spacing;
         d = distance(vec3(p0.x, 0.0, p0.y), g.lod_viewer.xyz);
         p = p0;
         if (uint(gl_VertexIndex) < pc.inner_count) {

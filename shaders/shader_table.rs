@@ -16,12 +16,16 @@ pub const SHADERS: &[(&str, &str, &[&str])] = &[
     ("solid.frag", "solid.frag", &[]),
     ("panel.vert", "panel.vert", &[]),
     ("panel.frag", "panel.frag", &[]),
+    // The calibration kernels' geometry (`render::calibration`).
+    ("calibrate.vert", "calibrate.vert", &[]),
 ];
 
-/// The cost variants of `vr-ocean gpu-budget` (`render::budget`): the ocean's fragment shader
-/// with each path's choices fixed (`COST_PATH`, see `shaders/ocean.frag`), 3 cascades, and the
-/// vertex shader; each is optimized with `spirv-opt -O` (inlined, unrolled, folded), so that
-/// its one function is that path's work per invocation, counted instruction by instruction.
+/// The modules `vr-ocean gpu-budget` counts (`render::budget`), each optimized with `spirv-opt
+/// -O` (inlined, unrolled, folded) so that its one function is straight-line code, counted
+/// instruction by instruction: the ocean's cost variants (its fragment shader with each path's
+/// choices fixed, `COST_PATH`, see `shaders/ocean.frag`, 3 cascades, and the vertex shader)
+/// and the calibration kernels (`shaders/calibrate.frag`, `KERNEL` rounds of `COUNT`), which
+/// the calibration also runs.
 pub const COST_SHADERS: &[(&str, &str, &[&str])] = &[
     (
         "ocean.frag",
@@ -59,6 +63,22 @@ pub const COST_SHADERS: &[(&str, &str, &[&str])] = &[
         "cost_detail.frag",
         &["COST_PATH=6", "COST_CASCADES=3", "COST_RESAMPLED=0"],
     ),
+    (
+        "ocean.frag",
+        "cost_union.frag",
+        &["COST_PATH=7", "COST_CASCADES=3", "COST_RESAMPLED=3"],
+    ),
+    ("calibrate.frag", "cal_base.frag", &["KERNEL=0", "COUNT=0"]),
+    ("calibrate.frag", "cal_alu.frag", &["KERNEL=1", "COUNT=96"]),
+    ("calibrate.frag", "cal_relaxed.frag", &["KERNEL=2", "COUNT=96"]),
+    ("calibrate.frag", "cal_special.frag", &["KERNEL=3", "COUNT=24"]),
+    ("calibrate.frag", "cal_trilinear.frag", &["KERNEL=4", "COUNT=12"]),
+    ("calibrate.frag", "cal_anisotropic.frag", &["KERNEL=5", "COUNT=12"]),
+    ("calibrate.frag", "cal_mixed.frag", &["KERNEL=6", "COUNT=8"]),
+    ("calibrate.frag", "cal_lod.frag", &["KERNEL=7", "COUNT=12"]),
+    ("calibrate.frag", "cal_grad.frag", &["KERNEL=8", "COUNT=12"]),
+    ("calibrate.frag", "cal_query.frag", &["KERNEL=9", "COUNT=12"]),
+    ("calibrate.frag", "cal_branch.frag", &["KERNEL=10", "COUNT=96"]),
 ];
 
 /// The `spirv-opt` arguments that optimize `input` into `output` for [`COST_SHADERS`].

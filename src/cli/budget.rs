@@ -42,8 +42,39 @@ pub struct GpuBudgetArgs {
     pub no_specular_aa: bool,
     /// Anisotropic filtering's most taps (1 = off; the apps' default on a headset is 4), to
     /// see what it costs. The counting pass reads the trilinear sampler and tallies the taps.
-    #[arg(long, default_value_t = 4)]
-    pub anisotropy: u32,
+    /// Default: 4; with --calibrate, the app's default on the device in use (4 on a GPU, off
+    /// on a CPU device, whose lavapipe filters every tap in software).
+    #[arg(long)]
+    pub anisotropy: Option<u32>,
+    /// Calibrate the model on the device in use instead: time the calibration passes (known
+    /// work per fragment, small triangles) at the Quest 2 eye size with its settings, fit the
+    /// device's costs, predict the ocean pass of every standard view from its counts, and
+    /// measure the plain pass's own GPU time (its timestamps, as `headless` reports them).
+    /// Prints one object per view: device, view, predicted_ms, measured_ms, error, the
+    /// prediction's terms and the counts.
+    #[arg(long)]
+    pub calibrate: bool,
+    /// With --calibrate: the headset whose eye size and default settings the calibration
+    /// and the views are rendered at.
+    #[arg(long, value_enum, default_value_t = HeadsetArg::Quest2)]
+    pub headset: HeadsetArg,
+    /// With --calibrate: also write the whole calibration (every pass's times, the fitted
+    /// costs, the views) to this JSON file.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+    /// With --calibrate: render nothing; fit the model again to the calibration passes of an
+    /// earlier report (--report, of any device) and predict its views from their recorded
+    /// counts and the shader costs recorded with them. To check the model against devices
+    /// that are not here.
+    #[arg(long)]
+    pub from: Option<PathBuf>,
+    /// With --calibrate: how often each calibration pass is timed (the median is used).
+    #[arg(long, default_value_t = 5)]
+    pub repeats: usize,
+    /// With --calibrate: frames of each view's plain pass (the first two are warm-up; the
+    /// median of the rest's timestamps is the measured time).
+    #[arg(long, default_value_t = 8)]
+    pub frames: u64,
     /// Count the cost variants in this folder (`cost_*.spv`, as `cargo xtask shaders` makes
     /// them) instead of the built-in ones: to compare another version of the shaders on the
     /// same counts.
@@ -55,6 +86,25 @@ pub struct GpuBudgetArgs {
     /// Simulation threads.
     #[arg(long, default_value_t = default_threads())]
     pub threads: usize,
+}
+
+/// A modelled headset, as the command line names it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum HeadsetArg {
+    /// Quest 2 (Adreno 650).
+    Quest2,
+    /// Quest 3 (Adreno 740).
+    Quest3,
+}
+
+impl HeadsetArg {
+    /// Its model.
+    pub fn model(self) -> &'static HeadsetModel {
+        match self {
+            HeadsetArg::Quest2 => &budget::QUEST_2,
+            HeadsetArg::Quest3 => &budget::QUEST_3,
+        }
+    }
 }
 
 /// The headset a model stands for (its defaults in this app).
@@ -88,6 +138,9 @@ pub fn gpu_budget_cmd(a: GpuBudgetArgs) -> CmdResult {
         None => PathCosts::of_shaders()?,
         Some(dir) => costs_from(dir)?,
     };
+    if a.calibrate {
+        return super::calibrate::calibrate_cmd(&a, &costs, &views);
+    }
     let mut rows: Vec<ViewEstimate> = Vec::new();
     for model in &budget::HEADSETS {
         for view in &views {
@@ -135,18 +188,33 @@ fn costs_from(dir: &std::path::Path) -> Result<PathCosts, Box<dyn std::error::Er
                 .collect(),
         );
     }
-    let m: [&[u32]; 8] = std::array::from_fn(|i| words[i].as_slice());
+    let m: [&[u32]; 9] = std::array::from_fn(|i| words[i].as_slice());
     PathCosts::of_modules(m).map_err(|e| format!("--costs-from {}: {e}", dir.display()).into())
 }
 
-/// Renders `view` at `model`'s eye size and default settings with the counting pass and
-/// estimates its cost.
-fn measure(
+/// How a standard view is rendered for the model.
+pub struct ViewRun<'a> {
+    /// The headset whose eye size and defaults are used.
+    pub model: &'a HeadsetModel,
+    /// Where the eyes are.
+    pub view: &'a StandardView,
+    /// The counting pass (tallies) or the plain one (its timestamps).
+    pub counting: bool,
+    /// Frames rendered; the first `warmup` are not timed.
+    pub frames: u64,
+    /// Frames not timed.
+    pub warmup: u64,
+    /// Anisotropic filtering's most taps.
+    pub taps: u32,
+}
+
+/// Renders `run.view` at its headset's eye size and default settings (the GPU-time governor
+/// off, no bodies); the report and the device's name.
+pub fn render_view(
     a: &GpuBudgetArgs,
-    model: &HeadsetModel,
-    view: &StandardView,
-    costs: &PathCosts,
-) -> Result<ViewEstimate, Box<dyn std::error::Error>> {
+    run: &ViewRun<'_>,
+) -> Result<(app::RunReport, bool), Box<dyn std::error::Error>> {
+    let model = run.model;
     let defaults = headset_of(model).defaults();
     let preset = defaults.preset;
     if preset.name() != model.preset {
@@ -161,46 +229,78 @@ fn measure(
     let mut opts = run_options(&defaults, preset, &[], Some(a.threads))?;
     opts.threads = a.threads.max(1);
     opts.floating = None;
-    opts.warmup = 1;
+    opts.warmup = run.warmup;
     // The headset's defaults as they start, never adapted: a device slower than the headset
     // (lavapipe takes seconds a frame) would otherwise let the GPU-time governor step quality
-    // down between the counted frames.
+    // down between the measured frames.
     opts.governor.enabled = false;
-    opts.renderer.count_paths = true;
+    opts.renderer.count_paths = run.counting;
     opts.renderer.specular_aa = !a.no_specular_aa;
-    opts.renderer.anisotropy = Anisotropy::from_taps(a.anisotropy)
-        .ok_or_else(|| format!("--anisotropy {}: 1 (off), 2, 4, 8 or 16 taps", a.anisotropy))?;
+    opts.renderer.anisotropy = Anisotropy::from_taps(run.taps)
+        .ok_or_else(|| format!("--anisotropy {}: 1 (off), 2, 4, 8 or 16 taps", run.taps))?;
     opts.renderer.msaa = Msaa::from_samples(model.msaa)
         .ok_or_else(|| format!("{}: {} MSAA samples", model.name, model.msaa))?;
-    let width = ((model.eye.0 as f32 * a.scale).round() as u32).max(16);
-    let height = ((model.eye.1 as f32 * a.scale).round() as u32).max(16);
+    let (width, height) = scaled_eye(a, model);
     let size = EyeSize::new(width, height)?;
+    let view = run.view;
     let path = CameraPath::still(glam::Vec3::new(0.0, view.height, 0.0), view.yaw, view.pitch);
-    let ctx = ContextOptions {
-        validation: if a.validation {
-            Validation::Required
-        } else {
-            Validation::Off
-        },
-        ..ContextOptions::default()
-    };
-    // Four frames: the tallies are averaged over all of them, and the pass's timestamps (read a
-    // frame or two late) reach the report for the last ones.
-    let frames = 4;
-    let mut xr = HeadlessXr::new(&ctx, size, path, frames)?;
+    let mut xr = HeadlessXr::new(&context_options(a), size, path, run.frames)?;
     // Mesa's lavapipe draws the second view's clipped triangles into the first view with
     // multiview; two passes count the same fragments.
-    if xr.gpu().cpu_device {
+    let cpu = xr.gpu().cpu_device;
+    if cpu {
         opts.renderer.stereo = StereoMode::TwoPass;
     }
     let validation = ValidationWatch::of(xr.gpu());
     let report = app::run(&mut xr, &opts, &mut NoHooks)?;
     drop(xr);
     validation.check()?;
+    Ok((report, cpu))
+}
+
+/// The eye size the views are rendered at: the headset's, scaled by `--scale`.
+fn scaled_eye(a: &GpuBudgetArgs, model: &HeadsetModel) -> (u32, u32) {
+    let width = ((model.eye.0 as f32 * a.scale).round() as u32).max(16);
+    let height = ((model.eye.1 as f32 * a.scale).round() as u32).max(16);
+    (width, height)
+}
+
+/// The Vulkan context every run of the command uses: the validation layer as asked.
+pub fn context_options(a: &GpuBudgetArgs) -> ContextOptions {
+    ContextOptions {
+        validation: if a.validation {
+            Validation::Required
+        } else {
+            Validation::Off
+        },
+        ..ContextOptions::default()
+    }
+}
+
+/// Renders `view` at `model`'s eye size and default settings with the counting pass and
+/// estimates its cost.
+fn measure(
+    a: &GpuBudgetArgs,
+    model: &HeadsetModel,
+    view: &StandardView,
+    costs: &PathCosts,
+) -> Result<ViewEstimate, Box<dyn std::error::Error>> {
+    // Four frames: the tallies are averaged over all of them, and the pass's timestamps (read a
+    // frame or two late) reach the report for the last ones.
+    let run = ViewRun {
+        model,
+        view,
+        counting: true,
+        frames: 4,
+        warmup: 1,
+        taps: a.anisotropy.unwrap_or(4),
+    };
+    let (report, _) = render_view(a, &run)?;
     let mut counts = report
         .paths
         .ok_or("the renderer returned no counts (the device lacks pipeline statistics)")?;
     // Counted at a smaller size: scale back to the headset's pixels.
+    let (width, height) = scaled_eye(a, model);
     let ratio = (model.eye.0 as f64 * model.eye.1 as f64) / (width as f64 * height as f64);
     if ratio != 1.0 {
         for c in [
@@ -210,8 +310,18 @@ fn measure(
             &mut counts.resamples,
             &mut counts.foam,
             &mut counts.plain,
+            &mut counts.detail,
+            &mut counts.aniso_taps,
             &mut counts.fragment_invocations,
         ] {
+            *c = (*c as f64 * ratio).round() as u64;
+        }
+        for c in counts
+            .by_area
+            .iter_mut()
+            .chain(&mut counts.quarter_lanes)
+            .chain(&mut counts.by_thickness)
+        {
             *c = (*c as f64 * ratio).round() as u64;
         }
     }

@@ -5,6 +5,7 @@
 
 pub mod args;
 pub mod budget;
+pub mod calibrate;
 pub mod report;
 pub mod settings;
 pub mod tools;

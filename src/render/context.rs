@@ -3,11 +3,14 @@
 
 use std::ffi::{c_char, c_void, CStr};
 use std::sync::atomic::{AtomicU32, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 use ash::vk;
 
 use super::error::RenderError;
+use super::statistics::StatisticsLog;
+use super::validation::on_message;
+pub use super::validation::ValidationLog;
 
 /// The Khronos validation layer (Debian `vulkan-validationlayers`).
 pub const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
@@ -37,6 +40,9 @@ pub struct ContextOptions {
     /// Enable `VK_EXT_fragment_density_map` (fixed foveation) when the device has it with
     /// non-subsampled images; [`GpuContext::fragment_density_map`] says whether it did.
     pub fragment_density_map: bool,
+    /// Capture every pipeline's compiler statistics (`VK_KHR_pipeline_executable_properties`)
+    /// where the device reports them; [`GpuContext::pipeline_statistics`] holds them.
+    pub capture_statistics: bool,
 }
 
 impl Default for ContextOptions {
@@ -47,6 +53,7 @@ impl Default for ContextOptions {
             present: false,
             api_version: vk::API_VERSION_1_1,
             fragment_density_map: false,
+            capture_statistics: false,
         }
     }
 }
@@ -123,31 +130,6 @@ impl VulkanFactory for DirectVulkan {
     }
 }
 
-/// Errors and warnings the validation layer reported.
-#[derive(Debug, Default)]
-pub struct ValidationLog {
-    errors: AtomicU32,
-    warnings: AtomicU32,
-    first: Mutex<Vec<String>>,
-}
-
-impl ValidationLog {
-    /// Validation errors so far.
-    pub fn errors(&self) -> u32 {
-        self.errors.load(Ordering::Relaxed)
-    }
-
-    /// Validation warnings so far.
-    pub fn warnings(&self) -> u32 {
-        self.warnings.load(Ordering::Relaxed)
-    }
-
-    /// The first few error messages (for test failures).
-    pub fn messages(&self) -> Vec<String> {
-        self.first.lock().map(|m| m.clone()).unwrap_or_default()
-    }
-}
-
 /// Instance, physical device, logical device and the one graphics queue.
 pub struct GpuContext {
     /// The loaded Vulkan entry points.
@@ -174,6 +156,9 @@ pub struct GpuContext {
     /// Whether `fragmentStoresAndAtomics` and `pipelineStatisticsQuery` are enabled (the device
     /// has both): the GPU budget's counting pass (`render::budget`) needs them.
     pub probes: bool,
+    /// Every pipeline's compiler statistics, when asked for
+    /// ([`ContextOptions::capture_statistics`]) and the device reports them.
+    pub pipeline_statistics: Option<StatisticsLog>,
     /// The largest sampler anisotropy (`maxSamplerAnisotropy`) when `samplerAnisotropy` is
     /// enabled (the device has it); `None` without anisotropic filtering.
     pub max_anisotropy: Option<f32>,
@@ -314,6 +299,13 @@ impl GpuContext {
         let mut f2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut mv);
         // SAFETY: `physical` belongs to `instance`; the chain lives on this stack frame.
         unsafe { instance.get_physical_device_features2(physical, &mut f2) };
+        let capture_statistics =
+            opts.capture_statistics && has_executable_statistics(instance, physical);
+        if opts.capture_statistics && !capture_statistics {
+            log::warn!(
+                "{device_name} reports no compiler statistics (VK_KHR_pipeline_executable_properties)"
+            );
+        }
         let probes = f2.features.fragment_stores_and_atomics == vk::TRUE
             && f2.features.pipeline_statistics_query == vk::TRUE;
         let anisotropic = f2.features.sampler_anisotropy == vk::TRUE;
@@ -340,6 +332,11 @@ impl GpuContext {
         if fragment_density_map {
             dev_ext.push(ash::ext::fragment_density_map::NAME.as_ptr());
         }
+        if capture_statistics {
+            dev_ext.push(ash::khr::pipeline_executable_properties::NAME.as_ptr());
+        }
+        let mut enable_stats = vk::PhysicalDevicePipelineExecutablePropertiesFeaturesKHR::default()
+            .pipeline_executable_info(true);
         let mut enable_mv = vk::PhysicalDeviceMultiviewFeatures::default().multiview(multiview);
         let mut enable_fdm = vk::PhysicalDeviceFragmentDensityMapFeaturesEXT::default()
             .fragment_density_map(true)
@@ -355,6 +352,9 @@ impl GpuContext {
             .push_next(&mut enable_mv);
         if fragment_density_map {
             dinfo = dinfo.push_next(&mut enable_fdm);
+        }
+        if capture_statistics {
+            dinfo = dinfo.push_next(&mut enable_stats);
         }
         let raw = factory.create_device(instance, physical, &dinfo)?;
         // SAFETY: `raw` was just created on `physical` of this instance.
@@ -382,6 +382,7 @@ impl GpuContext {
             sample_counts,
             fragment_density_map,
             probes,
+            pipeline_statistics: capture_statistics.then(StatisticsLog::default),
             max_anisotropy,
             memory,
             device_name,
@@ -461,6 +462,24 @@ fn has_fragment_density_map(instance: &ash::Instance, physical: vk::PhysicalDevi
     unsafe { instance.get_physical_device_features2(physical, &mut f2) };
     fdm.fragment_density_map == vk::TRUE
         && fdm.fragment_density_map_non_subsampled_images == vk::TRUE
+}
+
+/// Whether `physical` offers `VK_KHR_pipeline_executable_properties` with its
+/// `pipelineExecutableInfo` feature (compiler statistics per pipeline).
+fn has_executable_statistics(instance: &ash::Instance, physical: vk::PhysicalDevice) -> bool {
+    // SAFETY: `physical` belongs to `instance`.
+    let listed = unsafe { instance.enumerate_device_extension_properties(physical) }
+        .unwrap_or_default()
+        .iter()
+        .any(|e| e.extension_name_as_c_str() == Ok(ash::khr::pipeline_executable_properties::NAME));
+    if !listed {
+        return false;
+    }
+    let mut exe = vk::PhysicalDevicePipelineExecutablePropertiesFeaturesKHR::default();
+    let mut f2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut exe);
+    // SAFETY: `physical` belongs to `instance`; the chain lives on this stack frame.
+    unsafe { instance.get_physical_device_features2(physical, &mut f2) };
+    exe.pipeline_executable_info == vk::TRUE
 }
 
 impl Drop for GpuContext {
@@ -563,34 +582,4 @@ impl Drop for PartialContext {
             self.instance.destroy_instance(None);
         }
     }
-}
-
-unsafe extern "system" fn on_message(
-    severity: vk::DebugUtilsMessageSeverityFlagsEXT,
-    _types: vk::DebugUtilsMessageTypeFlagsEXT,
-    data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
-    user: *mut c_void,
-) -> vk::Bool32 {
-    // SAFETY: `user` is the `ValidationLog` the context keeps alive while the messenger exists.
-    let log = unsafe { &*(user as *const ValidationLog) };
-    // SAFETY: the layer passes a valid callback data pointer (or null) for the call's duration,
-    // and its message, when present, is a NUL-terminated string.
-    let msg = unsafe { data.as_ref() }
-        // SAFETY: as above.
-        .and_then(|d| unsafe { d.message_as_c_str() })
-        .map(|m| m.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    if severity.contains(vk::DebugUtilsMessageSeverityFlagsEXT::ERROR) {
-        log.errors.fetch_add(1, Ordering::Relaxed);
-        if let Ok(mut first) = log.first.lock() {
-            if first.len() < 8 {
-                first.push(msg.clone());
-            }
-        }
-        log::error!("Vulkan validation: {msg}");
-    } else {
-        log.warnings.fetch_add(1, Ordering::Relaxed);
-        log::warn!("Vulkan validation: {msg}");
-    }
-    vk::FALSE
 }

@@ -3,9 +3,12 @@
 //! per-frame staging ring. It draws what `sim` and `lod` produce and knows nothing of XR: the
 //! backend in `xr` owns the target images and hands them in.
 //!
-//! - [`context`]: instance, device, queue, validation-error counting.
+//! - [`context`]: instance, device, queue.
+//! - [`validation`]: the validation layer's messages, counted (tests fail on any error).
 //! - [`budget`]: the GPU cost model of `vr-ocean gpu-budget` (counted paths × counted
 //!   instructions × published Quest GPU throughput).
+//! - [`calibration`]: the calibration passes of `gpu-budget --calibrate` (known work per
+//!   fragment, small triangles), timed in the ocean's own pass settings.
 //! - [`commands`]: command pools, buffers and fences.
 //! - [`memory`]: buffers and images with their own memory.
 //! - [`barrier`]: pipeline barriers written as named access states (`from` → `to`).
@@ -19,10 +22,16 @@
 //! - [`tonemap`]: the shaders' tone curve (Khronos PBR Neutral) and the sRGB encoding, for
 //!   tests to check the GPU against.
 //! - [`readback`]: copies a rendered array image to the CPU (screenshots, tests).
+//! - `targets`: views and framebuffers of a stereo pass's target images (the ocean's, the
+//!   calibration's).
+//! - [`statistics`]: the driver's compiler statistics of every pipeline (`shader-stats`).
+//! - `sampler`: the samplers every texture is read through (trilinear, anisotropic).
+//! - `upload`: one-time copies of textures made on the CPU.
 //! - [`shaders`]: SPIR-V compiled from `shaders/` by `build.rs`.
 
 pub mod barrier;
 pub mod budget;
+pub mod calibration;
 pub mod camera;
 pub mod commands;
 pub mod context;
@@ -34,9 +43,14 @@ pub mod pipeline;
 pub(crate) mod program;
 pub mod readback;
 pub mod render_pass;
+pub(crate) mod sampler;
 pub mod shaders;
 pub mod sky;
+pub mod statistics;
+pub(crate) mod targets;
 pub mod tonemap;
+pub(crate) mod upload;
+pub mod validation;
 
 pub use context::{
     ContextOptions, DirectVulkan, GpuContext, Validation, ValidationLog, VulkanFactory,

@@ -176,14 +176,14 @@ impl Pipelines {
             render_pass: self.render_pass,
             msaa: self.layout_of_pass.msaa,
         };
-        let frag = if self.counting {
-            shaders::OCEAN_FRAG_COUNT
+        let (label, frag) = if self.counting {
+            ("ocean (counting)", shaders::OCEAN_FRAG_COUNT)
         } else if self.layout_of_pass.density_map {
-            shaders::OCEAN_FRAG_FDM
+            ("ocean (foveated)", shaders::OCEAN_FRAG_FDM)
         } else {
-            shaders::OCEAN_FRAG
+            ("ocean", shaders::OCEAN_FRAG)
         };
-        self.ocean = build(ctx, &ocean_program(multiview, frag), target)?;
+        self.ocean = build(ctx, &ocean_program(label, multiview, frag), target)?;
         self.solids = build(ctx, &solid_program(multiview), target)?;
         Ok(())
     }
@@ -202,26 +202,37 @@ impl Pipelines {
     }
 }
 
-/// What a pipeline is built against: the shared layout and the pass.
+/// What a pipeline is built against: its layout and the stereo pass.
 #[derive(Clone, Copy)]
-struct Target {
-    layout: vk::PipelineLayout,
-    render_pass: vk::RenderPass,
-    msaa: Msaa,
+pub(crate) struct Target {
+    /// The pipeline layout.
+    pub layout: vk::PipelineLayout,
+    /// The render pass (`render_pass`).
+    pub render_pass: vk::RenderPass,
+    /// Its samples per pixel.
+    pub msaa: Msaa,
 }
 
-/// The shaders and vertex input of one pipeline.
-struct Program {
-    vert: &'static [u32],
-    frag: &'static [u32],
-    bindings: [vk::VertexInputBindingDescription; 2],
-    attributes: Vec<vk::VertexInputAttributeDescription>,
-    cull: vk::CullModeFlags,
+/// The shaders and vertex input of one pipeline drawn in the stereo pass (the ocean's, the
+/// solids', the calibration kernels'), and the name its compiler statistics are filed under.
+pub(crate) struct Program {
+    /// What the pipeline draws (`GpuContext::pipeline_statistics`' label).
+    pub label: &'static str,
+    /// The vertex shader.
+    pub vert: &'static [u32],
+    /// The fragment shader.
+    pub frag: &'static [u32],
+    /// The vertex buffers' bindings (none: vertices from `gl_VertexIndex`).
+    pub bindings: Vec<vk::VertexInputBindingDescription>,
+    /// Their attributes.
+    pub attributes: Vec<vk::VertexInputAttributeDescription>,
+    /// Faces culled.
+    pub cull: vk::CullModeFlags,
 }
 
 /// Binding 0 per vertex of `vertex` bytes, binding 1 per instance of `instance` bytes.
-fn vertex_and_instance(vertex: usize, instance: usize) -> [vk::VertexInputBindingDescription; 2] {
-    [
+fn vertex_and_instance(vertex: usize, instance: usize) -> Vec<vk::VertexInputBindingDescription> {
+    vec![
         vk::VertexInputBindingDescription {
             binding: 0,
             stride: vertex as u32,
@@ -251,8 +262,8 @@ fn attr(
 
 /// The ocean: lattice positions (binding 0) and `PatchInstance`s (binding 1). Not back-face
 /// culled: folded crests show triangles from behind, and culling them would open holes.
-/// `frag`: the fragment shader variant (plain, foveated, counting).
-fn ocean_program(multiview: bool, frag: &'static [u32]) -> Program {
+/// `frag`: the fragment shader variant (plain, foveated, counting), filed as `label`.
+pub(crate) fn ocean_program(label: &'static str, multiview: bool, frag: &'static [u32]) -> Program {
     let f = vk::Format::R32_SFLOAT;
     let f2 = vk::Format::R32G32_SFLOAT;
     let u = vk::Format::R32_UINT;
@@ -267,6 +278,7 @@ fn ocean_program(multiview: bool, frag: &'static [u32]) -> Program {
         attr(7, 1, f, 36),
     ];
     Program {
+        label,
         vert: if multiview {
             shaders::OCEAN_VERT_MULTIVIEW
         } else {
@@ -294,6 +306,7 @@ fn solid_program(multiview: bool) -> Program {
         attr(6, 1, f4, 64),
     ];
     Program {
+        label: "solids",
         vert: if multiview {
             shaders::SOLID_VERT_MULTIVIEW
         } else {
@@ -309,7 +322,13 @@ fn solid_program(multiview: bool) -> Program {
     }
 }
 
-fn build(ctx: &GpuContext, program: &Program, target: Target) -> Result<vk::Pipeline, RenderError> {
+/// Creates `program`'s pipeline against `target`: triangle lists, depth tested (`GREATER`,
+/// reversed Z) and written, colour written without blending, viewport and scissor dynamic.
+pub(crate) fn build(
+    ctx: &GpuContext,
+    program: &Program,
+    target: Target,
+) -> Result<vk::Pipeline, RenderError> {
     let Target {
         layout,
         render_pass,
@@ -354,5 +373,5 @@ fn build(ctx: &GpuContext, program: &Program, target: Target) -> Result<vk::Pipe
         .layout(layout)
         .render_pass(render_pass)
         .subpass(0);
-    shaders.create(ctx, &info)
+    shaders.create(ctx, program.label, &info)
 }

@@ -55,21 +55,41 @@ impl ShaderPair {
     }
 
     /// Creates the pipeline `info` describes (its stages from [`ShaderPair::stages`]), then
-    /// frees the modules, whether it was made or not.
+    /// frees the modules, whether it was made or not. Where the context captures compiler
+    /// statistics ([`GpuContext::pipeline_statistics`]), the driver is asked for them and they
+    /// are filed under `label`.
     pub fn create(
         self,
         ctx: &GpuContext,
+        label: &'static str,
         info: &vk::GraphicsPipelineCreateInfo,
     ) -> Result<vk::Pipeline, RenderError> {
         let d = &ctx.device;
+        let capture = ctx.pipeline_statistics.as_ref();
+        let mut info = *info;
+        if capture.is_some() {
+            info.flags |= vk::PipelineCreateFlags::CAPTURE_STATISTICS_KHR;
+        }
         // SAFETY: every struct `info` points at lives until the call returns (the caller's
         // borrow); its layout and render pass are alive.
         let result = ctx.create("vkCreateGraphicsPipelines", || unsafe {
-            d.create_graphics_pipelines(vk::PipelineCache::null(), std::slice::from_ref(info), None)
-                .map_err(|(_, e)| e)
+            d.create_graphics_pipelines(
+                vk::PipelineCache::null(),
+                std::slice::from_ref(&info),
+                None,
+            )
+            .map_err(|(_, e)| e)
         });
         self.free(ctx);
-        result.map(|p| p[0])
+        let pipeline = result.map(|p| p[0])?;
+        if let Some(log) = capture {
+            if let Err(e) = log.record(ctx, label, pipeline) {
+                // SAFETY: the pipeline was just made and nothing uses it yet.
+                unsafe { d.destroy_pipeline(pipeline, None) };
+                return Err(e);
+            }
+        }
+        Ok(pipeline)
     }
 
     /// Frees the modules (a pipeline no longer needs them once made, or when making it failed).

@@ -61,10 +61,44 @@ pub mod cost {
     pub const DETAIL: &[u32] = spirv!("cost_detail.frag");
     /// The ocean's vertex shader (multiview).
     pub const VERTEX: &[u32] = spirv!("cost_ocean.vert");
+    /// Every path's work at once (each branch taken): what a device that runs both sides of
+    /// every branch pays per fragment.
+    pub const UNION: &[u32] = spirv!("cost_union.frag");
+}
+
+/// The calibration kernels' geometry: one triangle over the viewport or a grid of small ones
+/// (`render::calibration`).
+pub const CALIBRATE_VERT: &[u32] = spirv!("calibrate.vert");
+
+/// The calibration kernels (`shaders/calibrate.frag`, optimized like the cost variants): run by
+/// `render::calibration` and counted by [`crate::render::budget`].
+pub mod calibration {
+    /// Nothing but the fragment's write.
+    pub const BASE: &[u32] = spirv!("cal_base.frag");
+    /// FP32 arithmetic.
+    pub const ALU: &[u32] = spirv!("cal_alu.frag");
+    /// The same arithmetic in relaxed precision.
+    pub const RELAXED: &[u32] = spirv!("cal_relaxed.frag");
+    /// Special functions (inverse square root, exp2).
+    pub const SPECIAL: &[u32] = spirv!("cal_special.frag");
+    /// Trilinear samples.
+    pub const TRILINEAR: &[u32] = spirv!("cal_trilinear.frag");
+    /// Anisotropic samples (4:1 footprint).
+    pub const ANISOTROPIC: &[u32] = spirv!("cal_anisotropic.frag");
+    /// Trilinear samples mixed with FP32 arithmetic.
+    pub const MIXED: &[u32] = spirv!("cal_mixed.frag");
+    /// Samples at an explicit level of detail, per lane.
+    pub const LOD: &[u32] = spirv!("cal_lod.frag");
+    /// Samples with explicit gradients.
+    pub const GRAD: &[u32] = spirv!("cal_grad.frag");
+    /// Level-of-detail queries.
+    pub const QUERY: &[u32] = spirv!("cal_query.frag");
+    /// The arithmetic kernel's work behind a branch no lane takes.
+    pub const BRANCH: &[u32] = spirv!("cal_branch.frag");
 }
 
 /// Every module with its name, for validation with `spirv-val`.
-pub const ALL: [(&str, &[u32]); 18] = [
+pub const ALL: [(&str, &[u32]); 31] = [
     ("ocean_mv.vert", OCEAN_VERT_MULTIVIEW),
     ("ocean.vert", OCEAN_VERT),
     ("ocean.frag", OCEAN_FRAG),
@@ -78,9 +112,22 @@ pub const ALL: [(&str, &[u32]); 18] = [
     ("cost_plain.frag", cost::PLAIN),
     ("cost_detail.frag", cost::DETAIL),
     ("cost_ocean.vert", cost::VERTEX),
+    ("cost_union.frag", cost::UNION),
     ("solid_mv.vert", SOLID_VERT_MULTIVIEW),
     ("solid.vert", SOLID_VERT),
     ("solid.frag", SOLID_FRAG),
     ("panel.vert", PANEL_VERT),
     ("panel.frag", PANEL_FRAG),
+    ("calibrate.vert", CALIBRATE_VERT),
+    ("cal_base.frag", calibration::BASE),
+    ("cal_alu.frag", calibration::ALU),
+    ("cal_relaxed.frag", calibration::RELAXED),
+    ("cal_special.frag", calibration::SPECIAL),
+    ("cal_trilinear.frag", calibration::TRILINEAR),
+    ("cal_anisotropic.frag", calibration::ANISOTROPIC),
+    ("cal_mixed.frag", calibration::MIXED),
+    ("cal_lod.frag", calibration::LOD),
+    ("cal_grad.frag", calibration::GRAD),
+    ("cal_query.frag", calibration::QUERY),
+    ("cal_branch.frag", calibration::BRANCH),
 ];

@@ -9,6 +9,8 @@
 //!   ocean window (headless PNGs in `./vr-ocean-headless/` when there is no display).
 //! * `cargo xtask bench [--criterion] [--no-setup] [ARGS]`: FFT benchmarks against FFTW.
 //! * `cargo xtask monado-root`: makes sure the Monado chroot exists and prints its path.
+//! * `cargo xtask turnip`: makes sure Mesa's Adreno driver on its no-op kernel shim is built
+//!   ([`turnip`]) and prints its path.
 //! * `cargo xtask apk [--release] [--openxr-loader PATH] [--verify-without-ndk]`,
 //!   `install [--release]`, `launch`: the Quest APK ([`apk`]); `apk-check`: CI's checks of
 //!   the APK built without the NDK ([`apk_check`], [`android_stubs`], [`openxr_loader`]).
@@ -19,9 +21,11 @@
 mod android_stubs;
 mod apk;
 mod apk_check;
+mod cache;
 mod fuzz;
 mod monado;
 mod openxr_loader;
+mod turnip;
 
 /// The shader table and the sources fingerprint, shared with `build.rs`.
 mod shader_table {
@@ -61,6 +65,21 @@ const APT_PACKAGES: &[&str] = &[
     // debootstrap builds it, zstd packs and unpacks its cached tarball.
     "debootstrap",
     "zstd",
+    // The Adreno's compiler (`cargo xtask turnip`): Mesa's turnip and its no-op kernel shim,
+    // built from Debian's Mesa source (TURNIP_APT_PACKAGES).
+    "ninja-build",
+    "python3-mako",
+    "python3-yaml",
+    "python3-packaging",
+    "python3-venv",
+    "bison",
+    "flex",
+    "libdrm-dev",
+    "libexpat1-dev",
+    "zlib1g-dev",
+    "libzstd-dev",
+    "patch",
+    "xz-utils",
     // The APK checked without the NDK: aapt and aapt2 (package `aapt`), zipalign, apksigner
     // (its Java runtime brings keytool), framework-res.apk of API 29 as aapt2's `-I`, clang and
     // lld for the stub system libraries, llvm for llvm-readelf, zip/unzip for the loader AAR.
@@ -178,7 +197,7 @@ const STEPS: &[Step] = &[
     },
     Step {
         name: "test (host)",
-        header: "tests on the host (Vulkan tests on lavapipe with the Khronos validation layer)",
+        header: "tests on the host (Vulkan tests on lavapipe with the Khronos validation layer; the Adreno statistics on turnip, cargo xtask turnip)",
         run: Run::Cargo(&[
             "test",
             "--workspace",
@@ -187,7 +206,7 @@ const STEPS: &[Step] = &[
             "frame_times_on_lavapipe",
         ]),
         slow: false,
-        prepare: None,
+        prepare: Some(turnip::prepare_step),
     },
     Step {
         name: "frame times",
@@ -301,6 +320,13 @@ commands:
           cargo run --release --features fftw --bin vr-ocean -- bench ARGS...
         --criterion  afterwards also run: cargo bench --features fftw --bench fft
         Arguments after `--` go to `vr-ocean bench` untouched.
+  turnip
+        As root: makes sure Mesa's Adreno Vulkan driver (turnip, with its compiler
+        ir3) and its no-op kernel shim are built, then prints their folder (alone on
+        stdout): $VR_OCEAN_CACHE/turnip (default /var/cache/vr-ocean/turnip), built
+        once from Debian trixie's Mesa source (about 3 minutes) and restored from
+        turnip.tar.zst there afterwards. `vr-ocean gpu-budget` reads the Adreno 650's
+        and 740's shader statistics through it (VR_OCEAN_TURNIP or --turnip).
   monado-root
         As root: makes sure the Debian trixie chroot with Monado exists, then prints its
         path (alone on stdout). It is $VR_OCEAN_CACHE/monado-trixie (default cache dir
@@ -347,6 +373,10 @@ fn main() -> ExitCode {
             println!("{}", root.display());
         }),
         "monado-root" => Err(Failure::Usage("monado-root takes no arguments".into())),
+        "turnip" if rest.is_empty() => turnip::ensure_turnip().map(|root| {
+            println!("{}", root.display());
+        }),
+        "turnip" => Err(Failure::Usage("turnip takes no arguments".into())),
         "apk" => apk::parse_apk_args(rest).and_then(|opts| apk::cmd_apk(&opts)),
         "install" => apk::parse_release_flag("install", rest).and_then(apk::cmd_install),
         "launch" => apk::parse_release_flag("launch", rest).and_then(|_| apk::cmd_launch()),

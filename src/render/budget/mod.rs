@@ -14,6 +14,7 @@
 //! governor (`xr::gpu_governor`) steps quality down from the pass's real timestamps when it is
 //! wrong.
 
+pub mod calibration;
 pub mod spirv;
 
 use self::spirv::InstructionCounts;
@@ -190,7 +191,7 @@ pub const VIEWS: [StandardView; 4] = [
 ];
 
 /// What one frame of a view measured, both eyes together.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PathCounts {
     /// Sky fragments.
     pub sky: u64,
@@ -209,6 +210,23 @@ pub struct PathCounts {
     /// The taps the anisotropic sampler adds to the pixels' own normal-map samples (each one
     /// more trilinear sample; `render::ocean::anisotropy`), summed over fragments.
     pub aniso_taps: u64,
+    /// The tallied fragments by the area of their triangle on the screen
+    /// ([`PathCounts::area_of_bin`]): a small triangle's set-up is shared by few fragments.
+    pub by_area: [u64; PathCounts::AREA_BINS],
+    /// The lanes the tallied fragments would be shaded on, in quarters, were the device to
+    /// shade in blocks of [`PathCounts::BLOCK_SIDES`] pixels a side: a triangle's blocks are
+    /// partly empty along its edges, and their empty lanes shade too (`shaders/ocean.frag`,
+    /// `count_size`).
+    #[serde(default)]
+    pub quarter_lanes: [u64; 3],
+    /// The tallied fragments by the thickness of their triangle (twice its area over its
+    /// longest edge; bin 0 under a quarter pixel, bin k in [2^(k-3), 2^(k-2)) pixels, the last,
+    /// the sky's, from 4096): recorded for other models of small triangles' waste.
+    #[serde(default)]
+    pub by_thickness: [u64; PathCounts::AREA_BINS],
+    /// Triangles out of the clipper (pipeline statistics: those the rasterizer set up, the
+    /// solids' included); 0 when unavailable.
+    pub clipped_primitives: u64,
     /// Fragment-shader invocations of the whole pass (pipeline statistics; helper lanes and
     /// the solids' fragments included where the device counts them); 0 when unavailable.
     pub fragment_invocations: u64,
@@ -217,6 +235,37 @@ pub struct PathCounts {
 }
 
 impl PathCounts {
+    /// Bins of [`PathCounts::by_area`]: bin 0 under half a pixel, bin k in [2^(k-2),
+    /// 2^(k-1)) pixels, the last from 8192 pixels up, the sky's (`shaders/ocean.frag`,
+    /// `count_area`).
+    pub const AREA_BINS: usize = 16;
+
+    /// The area (pixels) a bin stands for: the geometric middle of its range (a quarter pixel
+    /// for bin 0; a million, a full-screen triangle's order, for the last).
+    pub fn area_of_bin(bin: usize) -> f64 {
+        match bin {
+            0 => 0.25,
+            b if b >= Self::AREA_BINS - 1 => 1048576.0,
+            b => 2f64.powf(b as f64 - 1.5),
+        }
+    }
+
+    /// The block sides of [`PathCounts::quarter_lanes`] (pixels): 2, a GPU's quads; 4,
+    /// lavapipe's blocks; 8.
+    pub const BLOCK_SIDES: [u32; 3] = [2, 4, 8];
+
+    /// Lanes per tallied fragment were the device to shade in blocks of `side` pixels (1: no
+    /// lane wasted); `None` for a side not tallied or before anything was.
+    pub fn lanes_per_fragment(&self, side: u32) -> Option<f64> {
+        if side == 1 {
+            return Some(1.0);
+        }
+        let i = Self::BLOCK_SIDES.iter().position(|&s| s == side)?;
+        let tallied = self.tallied();
+        (tallied > 0 && self.quarter_lanes[i] > 0)
+            .then(|| self.quarter_lanes[i] as f64 / (4.0 * tallied as f64))
+    }
+
     /// Fragments the counting shader tallied (sky and water).
     pub fn tallied(&self) -> u64 {
         self.sky + self.single + self.supersampled + self.plain
@@ -224,7 +273,7 @@ impl PathCounts {
 }
 
 /// What one invocation of each path costs (from the cost variants' SPIR-V).
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PathCosts {
     /// The sky.
     pub sky: InstructionCounts,
@@ -242,11 +291,14 @@ pub struct PathCosts {
     pub detail: InstructionCounts,
     /// The ocean's vertex shader.
     pub vertex: InstructionCounts,
+    /// Every path at once (each branch taken): what a fragment costs a device that runs both
+    /// sides of every branch.
+    pub union: InstructionCounts,
 }
 
 /// The cost variants' module names (`COST_SHADERS` in `shaders/shader_table.rs`), in the order
 /// [`PathCosts::of_modules`] takes them.
-pub const COST_MODULES: [&str; 8] = [
+pub const COST_MODULES: [&str; 9] = [
     "cost_sky.frag",
     "cost_single.frag",
     "cost_super0.frag",
@@ -255,6 +307,7 @@ pub const COST_MODULES: [&str; 8] = [
     "cost_plain.frag",
     "cost_ocean.vert",
     "cost_detail.frag",
+    "cost_union.frag",
 ];
 
 impl PathCosts {
@@ -269,12 +322,13 @@ impl PathCosts {
             cost::PLAIN,
             cost::VERTEX,
             cost::DETAIL,
+            cost::UNION,
         ])
     }
 
     /// Counts cost variants given in [`COST_MODULES`] order (e.g. those of another version of
     /// the shaders, to compare).
-    pub fn of_modules(m: [&[u32]; 8]) -> Result<Self, spirv::CountError> {
+    pub fn of_modules(m: [&[u32]; 9]) -> Result<Self, spirv::CountError> {
         let single = spirv::count(m[1])?;
         let supersampled = spirv::count(m[2])?;
         Ok(Self {
@@ -286,6 +340,7 @@ impl PathCosts {
             plain: spirv::count(m[5])?,
             vertex: spirv::count(m[6])?,
             detail: spirv::count(m[7])?.minus(single),
+            union: spirv::count(m[8])?,
         })
     }
 }

@@ -20,7 +20,7 @@
 use std::collections::{HashMap, HashSet};
 
 /// What one invocation costs.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct InstructionCounts {
     /// Scalar FP32/integer operations (one per component; an FMA is one).
     pub alu: u32,
@@ -31,8 +31,19 @@ pub struct InstructionCounts {
     /// Special-function operations: reciprocal (of a division), square root, inverse square
     /// root, exp2, log2, sin, cos (one per component).
     pub special: u32,
-    /// Texture samples (filtered lookups; a level-of-detail query counts as one).
+    /// Texture samples (filtered lookups; a level-of-detail query counts as one), of every
+    /// kind; those of the three kinds below are also counted apart (the rest take implicit
+    /// derivatives: the quad's own, one level of detail per quad).
     pub samples: u32,
+    /// Of `samples`, those at an explicit level of detail (`textureLod`): a level per lane.
+    #[serde(default)]
+    pub lod_samples: u32,
+    /// Of `samples`, those with explicit gradients (`textureGrad`): a footprint per lane.
+    #[serde(default)]
+    pub grad_samples: u32,
+    /// Of `samples`, level-of-detail queries (`textureQueryLod`).
+    #[serde(default)]
+    pub lod_queries: u32,
     /// Conditional branches left after optimization.
     pub branches: u32,
 }
@@ -45,6 +56,9 @@ impl InstructionCounts {
             relaxed: self.relaxed.saturating_sub(base.relaxed),
             special: self.special.saturating_sub(base.special),
             samples: self.samples.saturating_sub(base.samples),
+            lod_samples: self.lod_samples.saturating_sub(base.lod_samples),
+            grad_samples: self.grad_samples.saturating_sub(base.grad_samples),
+            lod_queries: self.lod_queries.saturating_sub(base.lod_queries),
             branches: self.branches.saturating_sub(base.branches),
         }
     }
@@ -74,6 +88,17 @@ impl std::fmt::Display for CountError {
 impl std::error::Error for CountError {}
 
 const MAGIC: u32 = 0x0723_0203;
+/// Image operands: an explicit level of detail.
+const IMAGE_OPERANDS_LOD: u32 = 0x2;
+/// Image operands: explicit gradients.
+const IMAGE_OPERANDS_GRAD: u32 = 0x4;
+
+/// Whether sample opcode `code` takes a depth reference before its image operands
+/// (OpImageSampleDrefImplicitLod 89 .. OpImageSampleProjDrefExplicitLod 92, OpImageDrefGather
+/// 97).
+fn sample_has_dref(code: u16) -> bool {
+    matches!(code, 89..=92 | 97)
+}
 /// The `RelaxedPrecision` decoration.
 const RELAXED_PRECISION: u32 = 0;
 
@@ -218,8 +243,21 @@ pub fn count(words: &[u32]) -> Result<InstructionCounts, CountError> {
         let width = n(ty);
         let alu_before = counts.alu;
         match code {
-            op::IMAGE_SAMPLE_FIRST..=op::IMAGE_SAMPLE_LAST | op::IMAGE_QUERY_LOD => {
+            op::IMAGE_SAMPLE_FIRST..=op::IMAGE_SAMPLE_LAST => {
                 counts.samples += 1;
+                // The image operands' mask follows the coordinates (a Dref sample has one more
+                // operand before it).
+                let mask_at = if sample_has_dref(code) { 6 } else { 5 };
+                let mask = ins.get(mask_at).copied().unwrap_or(0);
+                if mask & IMAGE_OPERANDS_GRAD != 0 {
+                    counts.grad_samples += 1;
+                } else if mask & IMAGE_OPERANDS_LOD != 0 {
+                    counts.lod_samples += 1;
+                }
+            }
+            op::IMAGE_QUERY_LOD => {
+                counts.samples += 1;
+                counts.lod_queries += 1;
             }
             op::S_NEGATE | op::F_NEGATE => {}
             op::F_DIV => {

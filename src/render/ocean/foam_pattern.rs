@@ -17,11 +17,11 @@
 
 use ash::vk;
 
-use super::textures::sampler;
-use super::upload::{upload_levels, Level};
 use crate::render::context::GpuContext;
 use crate::render::error::RenderError;
 use crate::render::memory::{Image, ImageDesc};
+use crate::render::sampler::sampler;
+use crate::render::upload::{upload_levels, Level};
 use crate::sim::grid::GridSize;
 use crate::sim::pack;
 

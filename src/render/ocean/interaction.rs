@@ -5,11 +5,12 @@
 
 use ash::vk;
 
-use super::textures::{region, sampler_with};
+use super::textures::region;
 use crate::render::barrier::{self, Access, ImageBarrier};
 use crate::render::context::GpuContext;
 use crate::render::error::RenderError;
 use crate::render::memory::{Image, ImageDesc};
+use crate::render::sampler::sampler_with;
 use crate::sim::interaction::InteractionLayer;
 use crate::sim::GridSize;
 

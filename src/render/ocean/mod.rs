@@ -8,9 +8,7 @@
 //! - `interaction`: the interaction layer's texture, uploaded each frame it stepped;
 //! - `sky_map`: the sky's prefiltered environment map and its light, baked when the sun moves;
 //! - `foam_pattern`: the tiling foam texture the whitecap coverage thresholds, made at start-up;
-//! - `upload`: the one-time copies of textures made on the CPU;
 //! - `mesh`: the patch, skirt and sky meshes, uploaded once;
-//! - `targets`: views and framebuffers of the target images;
 //! - `pass`: the uniforms, cascade fades and the pass's recording;
 //! - `solids`: the floating bodies' and the deck's meshes and instances;
 //! - `probe`: the counting variant's tally and pipeline statistics (`vr-ocean gpu-budget`);
@@ -35,9 +33,7 @@ mod probe;
 mod sky_map;
 mod slots;
 pub mod solids;
-mod targets;
 mod textures;
-mod upload;
 
 use std::time::{Duration, Instant};
 
@@ -52,13 +48,13 @@ use self::pass::{PassConstants, PassRecorder, ResolveAfter};
 use self::probe::PathProbe;
 use self::sky_map::SkyMap;
 use self::slots::{Slots, TIMESTAMP_QUERIES};
-use self::targets::Targets;
 use self::textures::CascadeTextures;
 use super::budget::PathCounts;
 use super::context::GpuContext;
 use super::error::RenderError;
 use super::pipeline::{Msaa, Pipelines, StereoMode};
 use super::sky::SunSky;
+use super::targets::Targets;
 use crate::base::EyeView;
 use crate::lod::OceanLod;
 use crate::sim::interaction::InteractionLayer;

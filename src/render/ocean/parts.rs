@@ -7,13 +7,13 @@ use super::mesh::MeshBuffers;
 use super::probe::PathProbe;
 use super::sky_map::SkyMap;
 use super::slots::{SlotSizes, Slots};
-use super::targets::Targets;
 use super::textures::CascadeTextures;
 use super::{RendererSettings, TargetImages, MAX_CASCADES};
 use crate::lod::OceanLod;
 use crate::render::context::GpuContext;
 use crate::render::error::RenderError;
 use crate::render::pipeline::{PassLayout, Pipelines};
+use crate::render::targets::Targets;
 use crate::sim::OceanConfig;
 
 /// The parts of a renderer, made one after the other; whatever exists is destroyed when a
@@ -141,7 +141,12 @@ pub(super) fn make_parts(
         .interaction
         .insert(InteractionTexture::new(ctx, settings.interaction)?);
     parts.mesh = Some(MeshBuffers::new(ctx, lod)?);
-    parts.targets = Some(Targets::new(ctx, pipelines, targets)?);
+    parts.targets = Some(Targets::new(
+        ctx,
+        &pipelines.layout_of_pass,
+        pipelines.render_pass,
+        targets,
+    )?);
     let map = lod.settings().map_width() as usize;
     let sizes = SlotSizes {
         staging: InteractionTexture::staging_offset(CascadeTextures::staging_size(config))

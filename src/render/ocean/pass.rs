@@ -14,9 +14,10 @@ use super::mesh::MeshBuffers;
 use super::sky_map::SkyLight;
 use super::{FrameInput, RendererSettings};
 use crate::lod::{LodSettings, OceanLod};
-use crate::render::barrier::{self, Access, ImageBarrier};
+use crate::render::barrier::Access;
 use crate::render::camera::Globals;
 use crate::render::pipeline::{Pipelines, Push};
+use crate::render::targets::resolve_eye;
 use crate::sim::detail::{DETAIL_TEXELS, DETAIL_TILE_M};
 use crate::sim::whitecaps::WHITECAP_TEXELS;
 use crate::sim::{pack, OceanConfig};
@@ -348,60 +349,10 @@ impl PassRecorder<'_> {
             d.cmd_end_render_pass(cmd);
         }
         if let Some(r) = self.resolve_after {
-            self.resolve(r, eye);
+            // The layer's last reader was a copy or blit of an earlier frame.
+            resolve_eye(d, cmd, r.msaa, r.target, eye, area, Access::TransferRead);
         }
         draws
-    }
-
-    /// Resolves the pass's multisampled colour into layer `eye` of the eye image, which ends
-    /// in `COLOR_ATTACHMENT_OPTIMAL` as a resolve in the pass would leave it.
-    fn resolve(&self, r: ResolveAfter, eye: u32) {
-        let (d, cmd) = (self.device, self.cmd);
-        // The layer's last reader was a copy or blit of an earlier frame; its contents go.
-        let to_write =
-            ImageBarrier::colour(r.target, 2, Access::TransferRead, Access::TransferWrite)
-                .layer(eye)
-                .discard();
-        barrier::record(d, cmd, [to_write], None);
-        let layers = |layer| vk::ImageSubresourceLayers {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            mip_level: 0,
-            base_array_layer: layer,
-            layer_count: 1,
-        };
-        let offset = vk::Offset3D {
-            x: self.area.offset.x,
-            y: self.area.offset.y,
-            z: 0,
-        };
-        let region = vk::ImageResolve {
-            src_subresource: layers(0),
-            src_offset: offset,
-            dst_subresource: layers(eye),
-            dst_offset: offset,
-            extent: vk::Extent3D {
-                width: self.area.extent.width,
-                height: self.area.extent.height,
-                depth: 1,
-            },
-        };
-        // SAFETY: `cmd` is recording outside a render pass; the multisampled image is in
-        // TRANSFER_SRC_OPTIMAL (the pass's final layout, its writes made visible by the pass's
-        // dependency) and the eye layer in TRANSFER_DST_OPTIMAL; the region fits both.
-        unsafe {
-            d.cmd_resolve_image(
-                cmd,
-                r.msaa,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                r.target,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                &[region],
-            )
-        };
-        let done =
-            ImageBarrier::colour(r.target, 2, Access::TransferWrite, Access::ColourAttachment)
-                .layer(eye);
-        barrier::record(d, cmd, [done], None);
     }
 
     fn push(&self, push: &Push) {

@@ -1,7 +1,8 @@
 //! The counting variant of the ocean pass (`vr-ocean gpu-budget`, [`crate::render::budget`]):
-//! a storage buffer the counting fragment shader tallies its paths into (binding 6, summed
-//! over every frame rendered), and a pipeline-statistics query around each frame's pass
-//! (vertex and fragment invocations, read when the frame's slot comes round again). Made only
+//! a storage buffer the counting fragment shader tallies its paths and quads into (binding 6,
+//! summed over every frame rendered), and a pipeline-statistics query around each frame's pass
+//! (vertex invocations, primitives through the clipper, fragment invocations, read when the
+//! frame's slot comes round again). Made only
 //! when the renderer counts; never in a user's run.
 
 use ash::vk;
@@ -12,7 +13,7 @@ use crate::render::error::RenderError;
 use crate::render::memory::Buffer;
 
 /// Tallies the shader writes (`t_paths.tally` in `shaders/ocean.frag`, `COUNT_*` order).
-const TALLIES: usize = 8;
+const TALLIES: usize = 8 + 2 * PathCounts::AREA_BINS + 3;
 
 /// The counting pass's buffer and queries.
 pub(super) struct PathProbe {
@@ -20,8 +21,9 @@ pub(super) struct PathProbe {
     stats: vk::QueryPool,
     /// Per slot: a query was recorded and not read yet.
     pending: Vec<bool>,
-    /// Vertex and fragment invocations read so far.
-    invocations: [u64; 2],
+    /// The statistics read so far: vertex invocations, primitives into and out of the
+    /// clipper, fragment invocations (Vulkan's bit order).
+    invocations: [u64; 4],
     /// Frames whose pass was counted.
     frames: u64,
 }
@@ -33,7 +35,7 @@ impl PathProbe {
             tally: Buffer::null(),
             stats: vk::QueryPool::null(),
             pending: vec![false; slots],
-            invocations: [0; 2],
+            invocations: [0; 4],
             frames: 0,
         };
         if let Err(e) = this.create(ctx, slots) {
@@ -52,6 +54,8 @@ impl PathProbe {
             .query_count(slots as u32)
             .pipeline_statistics(
                 vk::QueryPipelineStatisticFlags::VERTEX_SHADER_INVOCATIONS
+                    | vk::QueryPipelineStatisticFlags::CLIPPING_INVOCATIONS
+                    | vk::QueryPipelineStatisticFlags::CLIPPING_PRIMITIVES
                     | vk::QueryPipelineStatisticFlags::FRAGMENT_SHADER_INVOCATIONS,
             );
         // SAFETY: a valid create info on a live device with `pipelineStatisticsQuery` enabled
@@ -76,10 +80,10 @@ impl PathProbe {
         if !std::mem::take(&mut self.pending[slot]) {
             return Ok(());
         }
-        // One query (ash takes the count from the slice): two 64-bit statistics.
-        let mut r = [[0u64; 2]; 1];
+        // One query (ash takes the count from the slice): four 64-bit statistics.
+        let mut r = [[0u64; 4]; 1];
         // SAFETY: the query was begun and ended in a submitted command buffer whose fence has
-        // signalled; two 64-bit results for the two statistics asked for.
+        // signalled; four 64-bit results for the four statistics asked for.
         unsafe {
             ctx.device.get_query_pool_results(
                 self.stats,
@@ -89,8 +93,9 @@ impl PathProbe {
             )
         }
         .map_err(RenderError::vk("vkGetQueryPoolResults"))?;
-        self.invocations[0] += r[0][0];
-        self.invocations[1] += r[0][1];
+        for (sum, v) in self.invocations.iter_mut().zip(r[0]) {
+            *sum += v;
+        }
         Ok(())
     }
 
@@ -147,8 +152,16 @@ impl PathProbe {
             resamples: per_frame(t[5].into()),
             detail: per_frame(t[6].into()),
             aniso_taps: per_frame(t[7].into()),
+            by_area: std::array::from_fn(|b| per_frame(t[8 + b].into())),
+            quarter_lanes: std::array::from_fn(|b| {
+                per_frame(t[8 + PathCounts::AREA_BINS + b].into())
+            }),
+            by_thickness: std::array::from_fn(|b| {
+                per_frame(t[8 + PathCounts::AREA_BINS + 3 + b].into())
+            }),
             vertex_invocations: per_frame(self.invocations[0]),
-            fragment_invocations: per_frame(self.invocations[1]),
+            clipped_primitives: per_frame(self.invocations[2]),
+            fragment_invocations: per_frame(self.invocations[3]),
         })
     }
 

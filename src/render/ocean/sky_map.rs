@@ -6,12 +6,12 @@
 use ash::vk;
 use glam::Vec3;
 
-use super::textures::sampler_with;
-use super::upload::{upload_levels, Level};
 use crate::render::context::GpuContext;
 use crate::render::error::RenderError;
 use crate::render::memory::{Image, ImageDesc};
+use crate::render::sampler::sampler_with;
 use crate::render::sky::{self, EnvMap, Sky, SunSky, SUN_ANGULAR_RADIUS_DEG};
+use crate::render::upload::{upload_levels, Level};
 
 /// Level 0 of the environment map: texels along the azimuth (diamond-angle spaced: 2π/320 at
 /// the diagonals, π/320 at the axes; the sky seen directly reads level 0, and clouds' edges

@@ -11,6 +11,7 @@ use crate::render::barrier::{self, Access, ImageBarrier};
 use crate::render::context::GpuContext;
 use crate::render::error::RenderError;
 use crate::render::memory::{Image, ImageDesc};
+use crate::render::sampler::{sampler, sampler_of};
 use crate::sim::whitecaps::{WHITECAP_LEVELS, WHITECAP_TEXELS};
 use crate::sim::{pack, GridSize, OceanConfig, Surfaces};
 
@@ -276,45 +277,4 @@ pub(super) fn region(offset: usize, layer: u32, level: u32, side: u32) -> vk::Bu
             depth: 1,
         },
     }
-}
-
-/// A trilinear, repeating sampler reading mips 0..=`max_lod`.
-pub(super) fn sampler(ctx: &GpuContext, max_lod: f32) -> Result<vk::Sampler, RenderError> {
-    use vk::SamplerAddressMode as A;
-    sampler_with(ctx, max_lod, [A::REPEAT, A::REPEAT])
-}
-
-/// A trilinear sampler reading mips 0..=`max_lod`, addressing u and v as `address` says (w as
-/// v).
-pub(super) fn sampler_with(
-    ctx: &GpuContext,
-    max_lod: f32,
-    address: [vk::SamplerAddressMode; 2],
-) -> Result<vk::Sampler, RenderError> {
-    sampler_of(ctx, max_lod, address, 1.0)
-}
-
-/// [`sampler_with`], anisotropic up to `anisotropy` taps when above 1 (the device must have
-/// `samplerAnisotropy` enabled).
-fn sampler_of(
-    ctx: &GpuContext,
-    max_lod: f32,
-    address: [vk::SamplerAddressMode; 2],
-    anisotropy: f32,
-) -> Result<vk::Sampler, RenderError> {
-    let info = vk::SamplerCreateInfo::default()
-        .anisotropy_enable(anisotropy > 1.0)
-        .max_anisotropy(anisotropy.max(1.0))
-        .mag_filter(vk::Filter::LINEAR)
-        .min_filter(vk::Filter::LINEAR)
-        .mipmap_mode(vk::SamplerMipmapMode::LINEAR)
-        .address_mode_u(address[0])
-        .address_mode_v(address[1])
-        .address_mode_w(address[1])
-        .min_lod(0.0)
-        .max_lod(max_lod);
-    // SAFETY: a valid create info on a live device.
-    ctx.create("vkCreateSampler", || unsafe {
-        ctx.device.create_sampler(&info, None)
-    })
 }

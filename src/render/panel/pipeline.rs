@@ -70,5 +70,5 @@ pub(super) fn build(
         .layout(layout)
         .render_pass(render_pass)
         .subpass(0);
-    shaders.create(ctx, &info)
+    shaders.create(ctx, "panel", &info)
 }

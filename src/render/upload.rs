@@ -10,7 +10,7 @@ use crate::render::error::RenderError;
 use crate::render::memory::{Buffer, Image};
 
 /// One mip level's texels, tightly packed in the image's format.
-pub(super) struct Level<'a> {
+pub(crate) struct Level<'a> {
     /// The texels, row after row.
     pub bytes: &'a [u8],
     /// Its size in texels.
@@ -21,7 +21,7 @@ pub(super) struct Level<'a> {
 
 /// Copies `levels` (mip 0 first, layer 0) into `image` and leaves it in
 /// SHADER_READ_ONLY_OPTIMAL. The staging buffer is freed whatever happens.
-pub(super) fn upload_levels(
+pub(crate) fn upload_levels(
     ctx: &GpuContext,
     image: &Image,
     levels: &[Level<'_>],

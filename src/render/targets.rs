@@ -1,22 +1,30 @@
-//! The render targets of the pass: views and framebuffers for every pair of a colour image (the
-//! XR backend's, 2 layers) and a depth image (the given depth images, or one transient image of
-//! our own), per pass (one with multiview, one per eye without). With MSAA the pass draws into
-//! transient multisampled colour and depth images of our own and resolves into the colour
-//! image.
+//! The render targets of a stereo pass (the ocean's, and the calibration kernels' made the same
+//! way): views and framebuffers for every pair of a colour image (the XR backend's, 2 layers)
+//! and a depth image (the given depth images, or one transient image of our own), per pass (one
+//! with multiview, one per eye without). With MSAA the pass draws into transient multisampled
+//! colour and depth images of our own and resolves into the colour image.
 
 use ash::vk;
 
-use super::TargetImages;
+use crate::render::barrier::{self, Access, ImageBarrier};
 use crate::render::context::GpuContext;
 use crate::render::error::RenderError;
 use crate::render::memory::{create_view, Image, ImageDesc};
-use crate::render::pipeline::{Pipelines, StereoMode, DENSITY_MAP_FORMAT, DEPTH_FORMAT};
+use crate::render::ocean::TargetImages;
+use crate::render::render_pass::{PassLayout, StereoMode, DENSITY_MAP_FORMAT, DEPTH_FORMAT};
+
+/// What the framebuffers are made for.
+struct Pass {
+    mode: StereoMode,
+    layout_of_pass: PassLayout,
+    render_pass: vk::RenderPass,
+}
 
 /// (first layer, layer count) of each pass's view.
 type LayerRanges = &'static [(u32, u32)];
 
 /// Views and framebuffers of the target images.
-pub(super) struct Targets {
+pub(crate) struct Targets {
     /// Transient multisampled colour (MSAA only), shared by all frames.
     own_colour: Option<Image>,
     /// Transient depth (multisampled with MSAA), when no depth images are given.
@@ -72,7 +80,17 @@ impl Targets {
     /// Views and framebuffers for every (colour, depth, pass); the transient attachments are
     /// shared by all frames (the render pass's external dependency orders their reuse).
     /// Nothing is left behind when a step fails.
-    pub fn new(ctx: &GpuContext, p: &Pipelines, t: TargetImages<'_>) -> Result<Self, RenderError> {
+    pub fn new(
+        ctx: &GpuContext,
+        layout: &PassLayout,
+        render_pass: vk::RenderPass,
+        t: TargetImages<'_>,
+    ) -> Result<Self, RenderError> {
+        let p = Pass {
+            mode: layout.mode,
+            layout_of_pass: *layout,
+            render_pass,
+        };
         let mut out = Self {
             own_colour: None,
             own_depth: None,
@@ -86,7 +104,7 @@ impl Targets {
             views: Vec::new(),
             framebuffers: Vec::new(),
         };
-        if let Err(e) = out.create(ctx, p, t) {
+        if let Err(e) = out.create(ctx, &p, t) {
             out.destroy(ctx);
             return Err(e);
         }
@@ -96,7 +114,7 @@ impl Targets {
     fn create(
         &mut self,
         ctx: &GpuContext,
-        p: &Pipelines,
+        p: &Pass,
         t: TargetImages<'_>,
     ) -> Result<(), RenderError> {
         let msaa = p.layout_of_pass.msaa;
@@ -255,4 +273,63 @@ impl Targets {
             i.destroy(ctx);
         }
     }
+}
+
+/// Records the resolve of a pass's multisampled colour `msaa` (1 layer, in
+/// `TRANSFER_SRC_OPTIMAL` after the pass) into layer `eye` of the 2-layer eye image `target`
+/// over `area` (the two-pass fallback's resolve after each pass). The layer's contents before
+/// are discarded; `from` is how it was last used. It ends in `COLOR_ATTACHMENT_OPTIMAL`, as a
+/// resolve in the pass would leave it.
+pub(crate) fn resolve_eye(
+    d: &ash::Device,
+    cmd: vk::CommandBuffer,
+    msaa: vk::Image,
+    target: vk::Image,
+    eye: u32,
+    area: vk::Rect2D,
+    from: Access,
+) {
+    let to_write = ImageBarrier::colour(target, 2, from, Access::TransferWrite)
+        .layer(eye)
+        .discard();
+    barrier::record(d, cmd, [to_write], None);
+    let layers = |layer| vk::ImageSubresourceLayers {
+        aspect_mask: vk::ImageAspectFlags::COLOR,
+        mip_level: 0,
+        base_array_layer: layer,
+        layer_count: 1,
+    };
+    let offset = vk::Offset3D {
+        x: area.offset.x,
+        y: area.offset.y,
+        z: 0,
+    };
+    let region = vk::ImageResolve {
+        src_subresource: layers(0),
+        src_offset: offset,
+        dst_subresource: layers(eye),
+        dst_offset: offset,
+        extent: vk::Extent3D {
+            width: area.extent.width,
+            height: area.extent.height,
+            depth: 1,
+        },
+    };
+    // SAFETY: `cmd` is recording outside a render pass (the caller's contract); the
+    // multisampled image is in TRANSFER_SRC_OPTIMAL (the pass's final layout, its writes made
+    // visible by the pass's dependency) and the eye layer in TRANSFER_DST_OPTIMAL; the region
+    // fits both.
+    unsafe {
+        d.cmd_resolve_image(
+            cmd,
+            msaa,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            target,
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            &[region],
+        )
+    };
+    let done =
+        ImageBarrier::colour(target, 2, Access::TransferWrite, Access::ColourAttachment).layer(eye);
+    barrier::record(d, cmd, [done], None);
 }
