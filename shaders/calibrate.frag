@@ -20,7 +20,7 @@
 //     read at the lobe's roughness, the sub-samples' mips);
 //   8 samples with explicit gradients (the foam pattern's, the whitecaps');
 //   9 level-of-detail queries (the finest cascade's);
-//   10 kernel 1's arithmetic behind a branch that no lane takes (its condition is each lane's
+//   10 kernel 7's samples behind a branch that no lane takes (its condition is each lane's
 //     own, which the compiler cannot know): a GPU skips it where a whole wave agrees, a CPU
 //     device that masks lanes may run it anyway.
 #extension GL_GOOGLE_include_directive : require
@@ -31,9 +31,11 @@ layout(set = 0, binding = 0) uniform mediump sampler2DArray u_trilinear;
 layout(set = 0, binding = 1) uniform mediump sampler2DArray u_anisotropic;
 layout(location = 0) out vec4 o_colour;
 
-// Another place of the texture for each sample, so that no two samples are the same.
+// Another place and scale of the texture for each sample, so that no two samples are the
+// same and each has a footprint of its own (as the water's cascades have): a compiler cannot
+// share one sample's level of detail with the next.
 vec3 sample_at(vec2 uv, int i) {
-    return vec3(uv + float(i) * vec2(0.37, 0.21), 0.0);
+    return vec3(uv * (1.0 + 0.13 * float(i)) + float(i) * vec2(0.37, 0.21), 0.0);
 }
 
 void main() {
@@ -78,27 +80,29 @@ void main() {
         }
     }
 #elif KERNEL == 7
-    // Levels 0.5 to 2.5, changing across the screen within each quad.
+    // Levels 0.5 to 2.5, changing across the screen within each quad, and from sample to
+    // sample.
     float level = 0.5 + 2.0 * fract(dot(p, vec2(0.37, 0.61)));
     [[unroll]] for (int i = 0; i < COUNT; ++i) {
-        v += textureLod(u_trilinear, sample_at(uv, i), level);
+        v += textureLod(u_trilinear, sample_at(uv, i), level + 0.07 * float(i));
     }
 #elif KERNEL == 8
     // The footprint of mip 1 along x and of mip 0.5 along y, given explicitly.
     vec2 gx = dFdx(uv);
     vec2 gy = 0.7 * dFdy(uv);
     [[unroll]] for (int i = 0; i < COUNT; ++i) {
-        v += textureGrad(u_trilinear, sample_at(uv, i), gx, gy);
+        float scale = 1.0 + 0.13 * float(i);
+        v += textureGrad(u_trilinear, sample_at(uv, i), gx * scale, gy * scale);
     }
 #elif KERNEL == 9
-    // Each query at another scale, so that none is the same as another.
     [[unroll]] for (int i = 0; i < COUNT; ++i) {
-        v.xy += textureQueryLod(u_trilinear, sample_at(uv * (1.0 + 0.1 * float(i)), i).xy);
+        v.xy += textureQueryLod(u_trilinear, sample_at(uv, i).xy);
     }
 #elif KERNEL == 10
     if (p.x < -1.0) {
+        float level = 0.5 + 2.0 * fract(dot(p, vec2(0.37, 0.61)));
         [[unroll]] for (int i = 0; i < COUNT; ++i) {
-            v = min(fma(v, pc.k.yyyy, pc.k.zzzz), pc.k.wwww) + pc.k.zzzz;
+            v += textureLod(u_trilinear, sample_at(uv, i), level + 0.07 * float(i));
         }
     }
 #endif

@@ -635,13 +635,12 @@ vec3 supersampled_surface(PixelCascades p, int cascades, bool resample[MAX_CASCA
 // (`render::budget::calibration`):
 // - its area (pixels): a triangle's set-up is shared by its fragments;
 // - the lanes it is shaded on if the device shades in blocks of B x B pixels (B = 2: a GPU's
-//   quads; 4: lavapipe's), partly empty along its edges: the blocks a convex shape of area A
-//   whose bounding box is W x H pixels meets at a random place are A / B² + (W + H) / B + 1
-//   (the area of the shape grown by a block, over a block's), each B² lanes, shared by the
-//   fragments the triangle makes, about A + (W + H) / 4 under 4x MSAA (a pixel is a fragment
-//   if any of its samples is covered; exact for the calibration's grids). Added per fragment
-//   in quarters of a lane.
+//   quads; 4: lavapipe's), partly empty along its edges: `render::budget::calibration::
+//   triangle_lanes` (the blocks a triangle of area A and bounding box W x H at a random place
+//   covers a sample of; there, the formula and its test against sampled triangles). Added per
+//   fragment in quarters of a lane.
 const float BLOCK_SIDES[LANE_TALLIES] = float[LANE_TALLIES](2.0, 4.0, 8.0);
+const float BLOCK_SHRINK[LANE_TALLIES] = float[LANE_TALLIES](0.75, 1.0, 2.0);
 void count_size() {
     vec2 dx = dFdx(v_xz);
     vec2 dy = dFdy(v_xz);
@@ -668,10 +667,11 @@ void count_size() {
     }
     atomicAdd(t_paths.tally[COUNT_AREAS + area_bin], 1u);
     atomicAdd(t_paths.tally[COUNT_THICKNESS + thin_bin], 1u);
-    float fragments = max(1.0, area + 0.25 * widths);
+    float fragments = max(1.0, area + 0.35 * widths);
     for (int i = 0; i < LANE_TALLIES; ++i) {
         float b = BLOCK_SIDES[i];
-        float lanes = (area / (b * b) + widths / b + 1.0) * b * b;
+        float g = b - BLOCK_SHRINK[i];
+        float lanes = max(b * b, area + g * widths + g * g);
         // A large triangle's fragments: one lane each (its edges are a vanishing share).
         float per_fragment = v_sky != 0u ? 1.0 : min(lanes / fragments, 1024.0);
         atomicAdd(t_paths.tally[COUNT_LANES + uint(i)], uint(4.0 * per_fragment + 0.5));

@@ -78,7 +78,7 @@ pub const COST_SHADERS: &[(&str, &str, &[&str])] = &[
     ("calibrate.frag", "cal_lod.frag", &["KERNEL=7", "COUNT=12"]),
     ("calibrate.frag", "cal_grad.frag", &["KERNEL=8", "COUNT=12"]),
     ("calibrate.frag", "cal_query.frag", &["KERNEL=9", "COUNT=12"]),
-    ("calibrate.frag", "cal_branch.frag", &["KERNEL=10", "COUNT=96"]),
+    ("calibrate.frag", "cal_branch.frag", &["KERNEL=10", "COUNT=12"]),
 ];
 
 /// The `spirv-opt` arguments that optimize `input` into `output` for [`COST_SHADERS`].

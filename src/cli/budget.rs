@@ -54,6 +54,14 @@ pub struct GpuBudgetArgs {
     /// prediction's terms and the counts.
     #[arg(long)]
     pub calibrate: bool,
+    /// Where Mesa's turnip and its no-op kernel shim are (`cargo xtask turnip`; default
+    /// `$VR_OCEAN_TURNIP`, else /var/cache/vr-ocean/turnip): each row carries what the
+    /// Adreno's own compiler makes of the water's paths.
+    #[arg(long)]
+    pub turnip: Option<PathBuf>,
+    /// Leave out the Adreno compiler's statistics (no turnip needed).
+    #[arg(long)]
+    pub no_adreno: bool,
     /// With --calibrate: the headset whose eye size and default settings the calibration
     /// and the views are rendered at.
     #[arg(long, value_enum, default_value_t = HeadsetArg::Quest2)]
@@ -143,8 +151,18 @@ pub fn gpu_budget_cmd(a: GpuBudgetArgs) -> CmdResult {
     }
     let mut rows: Vec<ViewEstimate> = Vec::new();
     for model in &budget::HEADSETS {
+        let adreno = if a.no_adreno {
+            None
+        } else {
+            let turnip = super::adreno::turnip_dir(a.turnip.as_deref());
+            Some(super::adreno::adreno_paths(&turnip, model)?)
+        };
         for view in &views {
-            let row = measure(&a, model, view, &costs)?;
+            let mut row = measure(&a, model, view, &costs)?;
+            if let Some(paths) = &adreno {
+                row.adreno_gpu = Some(format!("a{}", model.adreno));
+                row.adreno_paths = paths.clone();
+            }
             if !a.json {
                 eprintln!(
                     "{} / {}: {:.2} ms of {:.1}",

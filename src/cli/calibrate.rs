@@ -451,7 +451,7 @@ fn run_kernels(
 fn kind_of(k: &Kernel) -> KernelKind {
     match (k.geometry, k.shader) {
         (Geometry::Empty, _) => KernelKind::Empty,
-        (Geometry::Grid(_), Shader::Alu) => KernelKind::GridAlu,
+        (Geometry::Grid(_), Shader::Lod) => KernelKind::GridShaded,
         (Geometry::Grid(_), _) => KernelKind::GridBase,
         (Geometry::FullScreen, Shader::Base) => KernelKind::Base,
         (Geometry::FullScreen, Shader::Alu) => KernelKind::Alu,

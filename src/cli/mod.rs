@@ -3,6 +3,7 @@
 //! [`budget`] for gpu-budget) and the
 //! run report ([`report`]: validation errors, `frame_times.json`).
 
+pub mod adreno;
 pub mod args;
 pub mod budget;
 pub mod calibrate;
@@ -13,6 +14,7 @@ pub mod view;
 
 use clap::{Parser, Subcommand};
 
+use self::adreno::ShaderStatsArgs;
 use self::budget::GpuBudgetArgs;
 use self::tools::{BenchArgs, ExportArgs, LodSvgArgs, SimulateArgs};
 use self::view::{DefaultRun, HeadlessArgs, WindowArgs, XrArgs};
@@ -51,6 +53,10 @@ pub enum Command {
     /// standard views rendered with the counting pass, shader paths and instructions counted,
     /// combined with the GPUs' published throughput (a model, not a headset measurement).
     GpuBudget(GpuBudgetArgs),
+    /// Print what the Vulkan device's own shader compiler makes of every pipeline a headset
+    /// draws, and of each water path as a pipeline of its own (instructions, registers, waves,
+    /// from VK_KHR_pipeline_executable_properties; Mesa's turnip reports the Adreno's ir3).
+    ShaderStats(ShaderStatsArgs),
     /// Draw one frame of the quadtree LOD (patches by level, stitched edges, both eye frusta) as SVG.
     LodSvg(LodSvgArgs),
 }
@@ -67,5 +73,6 @@ pub fn run(cli: Cli) -> CmdResult {
         Some(Command::Headless(a)) => view::headless_cmd(a),
         Some(Command::Xr(a)) => view::xr_cmd(a),
         Some(Command::GpuBudget(a)) => budget::gpu_budget_cmd(a),
+        Some(Command::ShaderStats(a)) => adreno::shader_stats_cmd(a),
     }
 }

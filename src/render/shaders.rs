@@ -93,7 +93,7 @@ pub mod calibration {
     pub const GRAD: &[u32] = spirv!("cal_grad.frag");
     /// Level-of-detail queries.
     pub const QUERY: &[u32] = spirv!("cal_query.frag");
-    /// The arithmetic kernel's work behind a branch no lane takes.
+    /// The explicit-level samples' kernel's work behind a branch no lane takes.
     pub const BRANCH: &[u32] = spirv!("cal_branch.frag");
 }
 

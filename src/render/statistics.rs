@@ -168,3 +168,85 @@ fn stage_name(stages: vk::ShaderStageFlags) -> String {
         format!("{stages:?}").to_lowercase()
     }
 }
+
+/// The ocean's shading paths as pipelines of their own: each cost variant's fragment shader
+/// (`render::shaders::cost`) with the ocean's vertex shader, label, in the ocean's pass.
+pub const WATER_PATHS: [(&str, &str); 8] = [
+    ("sky", "water path: sky"),
+    ("single", "water path: single"),
+    ("supersampled", "water path: supersampled"),
+    (
+        "supersampled_resampled",
+        "water path: supersampled, the finest cascade again",
+    ),
+    ("foam", "water path: single with foam"),
+    ("plain", "water path: plain"),
+    ("detail", "water path: single with detail"),
+    ("union", "water path: every branch"),
+];
+
+/// Builds, on `ctx` (which captures statistics), every pipeline a headset draws in `pass` (the
+/// ocean, its solids, the control panel) and each water path as a pipeline of its own
+/// ([`WATER_PATHS`]), then frees them; returns what the driver's compiler reported.
+pub fn headset_pipelines(
+    ctx: &GpuContext,
+    pass: super::render_pass::PassLayout,
+) -> Result<Vec<PipelineStatistics>, RenderError> {
+    use super::pipeline::{build, ocean_program, Pipelines, Target};
+    use super::shaders::cost;
+    let Some(log) = ctx.pipeline_statistics.as_ref() else {
+        return Err(RenderError::Unsupported(format!(
+            "compiler statistics (VK_KHR_pipeline_executable_properties) on {}",
+            ctx.device_name
+        )));
+    };
+    let mut pipelines = Pipelines::new(ctx, pass, false)?;
+    let multiview = pass.mode == super::render_pass::StereoMode::Multiview;
+    let target = Target {
+        layout: pipelines.layout,
+        render_pass: pipelines.render_pass,
+        msaa: pass.msaa,
+    };
+    let modules = [
+        cost::SKY,
+        cost::SINGLE,
+        cost::SUPERSAMPLED,
+        cost::SUPERSAMPLED_RESAMPLE,
+        cost::FOAM,
+        cost::PLAIN,
+        cost::DETAIL,
+        cost::UNION,
+    ];
+    let mut made = Vec::new();
+    let mut result = Ok(());
+    for ((_, label), frag) in WATER_PATHS.iter().zip(modules) {
+        match build(ctx, &ocean_program(label, multiview, frag), target) {
+            Ok(p) => made.push(p),
+            Err(e) => {
+                result = Err(e);
+                break;
+            }
+        }
+    }
+    if result.is_ok() {
+        let panel = super::panel::PanelPainter::new(
+            ctx,
+            super::panel::PanelTarget {
+                format: vk::Format::R8G8B8A8_SRGB,
+                then: super::barrier::Access::ColourAttachment,
+            },
+        );
+        match panel {
+            Ok(mut p) => p.destroy(ctx),
+            Err(e) => result = Err(e),
+        }
+    }
+    // SAFETY: the pipelines were never used.
+    unsafe {
+        for p in made {
+            ctx.device.destroy_pipeline(p, None);
+        }
+    }
+    pipelines.destroy(ctx);
+    result.map(|()| log.pipelines())
+}

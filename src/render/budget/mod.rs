@@ -14,6 +14,7 @@
 //! governor (`xr::gpu_governor`) steps quality down from the pass's real timestamps when it is
 //! wrong.
 
+pub mod adreno;
 pub mod calibration;
 pub mod spirv;
 
@@ -97,6 +98,8 @@ pub struct HeadsetModel {
     pub foveation: FoveationLevel,
     /// LOD quality preset, as `QualityPreset::name` spells it.
     pub preset: &'static str,
+    /// Its Adreno GPU (650 or 740: turnip's `FD_GPU_ID`, whose compiler `gpu-budget` reads).
+    pub adreno: u32,
 }
 
 impl HeadsetModel {
@@ -123,6 +126,7 @@ pub const QUEST_2: HeadsetModel = HeadsetModel {
     msaa: 4,
     foveation: FoveationLevel::High,
     preset: "medium",
+    adreno: 650,
 };
 
 /// Quest 3: Adreno 740 at 599 MHz (the default maximum since a 2024 firmware, UploadVR), taken
@@ -143,6 +147,7 @@ pub const QUEST_3: HeadsetModel = HeadsetModel {
     msaa: 4,
     foveation: FoveationLevel::Medium,
     preset: "high",
+    adreno: 740,
 };
 
 /// The headsets `gpu-budget` models.
@@ -376,6 +381,12 @@ pub struct ViewEstimate {
     pub measured_gpu_ms: Option<f64>,
     /// What was measured for it.
     pub counts: PathCounts,
+    /// The headset's GPU whose compiler (ir3 on turnip) `adreno_paths` are from ("a650",
+    /// "a740"); `None` when left out.
+    pub adreno_gpu: Option<String>,
+    /// Each water path, and the drawn pipeline's fragment and vertex shaders, as ir3 compiled
+    /// them for that GPU.
+    pub adreno_paths: Vec<adreno::AdrenoPath>,
 }
 
 /// The estimate for `headset` of a frame that measured `counts`, with `costs` per invocation.
@@ -426,6 +437,8 @@ pub fn estimate(
         share: estimated_ms / headset.budget_ms(),
         measured_gpu_ms: None,
         counts: *counts,
+        adreno_gpu: None,
+        adreno_paths: Vec::new(),
     }
 }
 

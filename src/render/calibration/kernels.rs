@@ -29,7 +29,7 @@ pub enum Shader {
     Grad,
     /// Level-of-detail queries.
     Query,
-    /// The arithmetic behind a branch no lane takes.
+    /// The explicit-level samples behind a branch no lane takes.
     Branch,
 }
 
@@ -160,9 +160,11 @@ impl Kernel {
 pub const GRID_CELLS: [u32; 6] = [32, 16, 8, 4, 2, 1];
 
 /// The shaders drawn on every grid: the base one (set-up, rasterization and writes of small
-/// triangles) and the arithmetic one (how much more shading small triangles cost per
-/// fragment: the lanes their partly covered quads or blocks waste).
-pub const GRID_SHADERS: [Shader; 2] = [Shader::Base, Shader::Alu];
+/// triangles) and a heavy one (how much more shading small triangles cost per fragment: the
+/// lanes their partly covered quads or blocks waste): samples at a level of detail of each
+/// lane's own, the work every device measured takes longest over (a GPU's arithmetic can hide
+/// behind its rasterizer).
+pub const GRID_SHADERS: [Shader; 2] = [Shader::Base, Shader::Lod];
 
 /// Every pass of a calibration, in order: the empty pass, each shader over the viewport, then
 /// the grid shaders on grids of small triangles, largest cells first.

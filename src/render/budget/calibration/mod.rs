@@ -45,7 +45,7 @@ mod rates;
 mod tests;
 
 use super::spirv::InstructionCounts;
-pub use grid::{fragments_per_pixel, grid_lanes_per_fragment};
+pub use grid::{fragments_per_pixel, grid_lanes_per_fragment, triangle_lanes, BLOCK_SHRINK};
 pub use predict::{predict, Prediction};
 pub use rates::{AreaCost, DeviceRates, FitError};
 
@@ -75,12 +75,12 @@ pub enum KernelKind {
     Grad,
     /// Level-of-detail queries.
     Query,
-    /// The arithmetic behind a branch no lane takes.
+    /// The explicit-level samples behind a branch no lane takes.
     Branch,
     /// The base shader on a grid of small triangles (`cell` pixels a side).
     GridBase,
-    /// The arithmetic shader on a grid of small triangles.
-    GridAlu,
+    /// A heavy shader (explicit-level samples) on a grid of small triangles.
+    GridShaded,
 }
 
 /// One calibration pass as measured on the device.

@@ -40,7 +40,7 @@ pub struct DeviceRates {
     pub overlap_measured: f64,
     /// σ: the share of a branch's work that lanes which do not take it still pay (0: a branch
     /// no lane of a wave takes is skipped; 1: both sides of every branch run for every
-    /// lane), from the kernel whose arithmetic no lane's branch reaches, kept in [0, 1].
+    /// lane), from the kernel whose samples no lane's branch reaches, kept in [0, 1].
     pub branch_share: f64,
     /// Per fragment of small triangles, by their area (from the grids; largest first).
     pub areas: Vec<AreaCost>,
@@ -194,15 +194,16 @@ impl DeviceRates {
             }
             _ => None,
         };
-        // Small triangles: per grid, the base shader's cost per fragment and the arithmetic's
+        // Small triangles: per grid, the base shader's cost per fragment and the heavy shader's
         // waste, against the full-screen passes.
-        let shading_full = per_lane(alu)? - per_lane(base)?;
+        let heavy = one(KernelKind::Lod)?;
+        let shading_full = per_lane(heavy)? - per_lane(base)?;
         let mut areas = Vec::new();
         for g in passes.iter().filter(|p| p.kind == KernelKind::GridBase) {
             let a = passes
                 .iter()
-                .find(|p| p.kind == KernelKind::GridAlu && p.cell == g.cell)
-                .ok_or_else(|| FitError(format!("no arithmetic pass on {} px cells", g.cell)))?;
+                .find(|p| p.kind == KernelKind::GridShaded && p.cell == g.cell)
+                .ok_or_else(|| FitError(format!("no shaded pass on {} px cells", g.cell)))?;
             let cell = f64::from(g.cell);
             areas.push(AreaCost {
                 area_px: 0.5 * cell * cell,
@@ -245,9 +246,10 @@ impl DeviceRates {
         let grad_sample_ns = floor("grad_sample", grad_sample_ns);
         let lod_query_ns = floor("lod_query", lod_query_ns);
         let tap_ns = tap_ns.map(|t| floor("tap", t));
-        // σ: the branch kernel's time beyond the base's, over the arithmetic kernel's.
+        // σ: the branch kernel's time beyond the base's, over the explicit-level kernel's.
         let branch = one(KernelKind::Branch)?;
         let branch_share = ((per_lane(branch)? - per_lane(base)?) / shading_full).clamp(0.0, 1.0);
+        // (The branch kernel holds the heavy kernel's samples: `shading_full` is its work.)
         let rates = Self {
             device: device.to_string(),
             pass_ms: empty.ms,

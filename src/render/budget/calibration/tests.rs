@@ -104,8 +104,12 @@ fn synthetic(truth: &DeviceRates, overlap: f64) -> Vec<KernelMeasurement> {
             1.0,
         ),
     ];
-    // The branch kernel: the base's work, and σ of the arithmetic kernel's beyond it.
-    let mut branch = pass("branch", KernelKind::Branch, ALU_KERNEL, 1.0);
+    // The branch kernel: the base's work, and σ of the explicit-level kernel's beyond it.
+    let lod = InstructionCounts {
+        lod_samples: 12,
+        ..counts(70, 0, 0, 12)
+    };
+    let mut branch = pass("branch", KernelKind::Branch, lod, 1.0);
     let base = pass("base", KernelKind::Base, BASE_KERNEL, 1.0);
     branch.ms = base.ms + truth.branch_share * (branch.ms - base.ms);
     out.push(branch);
@@ -113,7 +117,7 @@ fn synthetic(truth: &DeviceRates, overlap: f64) -> Vec<KernelMeasurement> {
         let cell = (2.0 * area.area_px).sqrt().round() as u32;
         for (kind, c) in [
             (KernelKind::GridBase, BASE_KERNEL),
-            (KernelKind::GridAlu, ALU_KERNEL),
+            (KernelKind::GridShaded, lod),
         ] {
             // The base shader's own few operations are wasted alike.
             let shade = area.waste * (shading(c, 1.0) - shading(BASE_KERNEL, 1.0));
