@@ -44,9 +44,9 @@ pub struct DeviceRates {
     pub branch_share: f64,
     /// Per fragment of small triangles, by their area (from the grids; largest first).
     pub areas: Vec<AreaCost>,
-    /// The side (pixels) of the squares the device shades a triangle's fragments in, of 1
-    /// (none wasted), 2 (quads), 4 and 8: the one whose lanes explain the grids' measured
-    /// waste best.
+    /// The side (pixels) of the squares the device shades a triangle's fragments in, of 2
+    /// (quads: the least, derivatives need them), 4 and 8: the one whose lanes explain the
+    /// grids' measured waste best.
     pub block_px: u32,
     /// Per grid (as `areas`): the waste `block_px` predicts over what was measured.
     pub block_fit: Vec<f64>,
@@ -223,10 +223,11 @@ impl DeviceRates {
                 })
                 .sum()
         };
-        let block_px = [1u32, 2, 4, 8]
+        // Every Vulkan device shades at least 2×2 quads (derivatives need them): no side of 1.
+        let block_px = [2u32, 4, 8]
             .into_iter()
             .min_by(|&a, &b| misfit(a).total_cmp(&misfit(b)))
-            .unwrap_or(1);
+            .unwrap_or(2);
         let block_fit = areas
             .iter()
             .map(|c| grid_lanes_per_fragment(c.cell_px, block_px) / c.waste)
