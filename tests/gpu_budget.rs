@@ -1,8 +1,11 @@
 //! `vr-ocean gpu-budget --json` on lavapipe with the validation layer: every standard view of
 //! both headsets is counted at its eye size and default settings, and the model's estimate is
-//! gated against the headset's frame budget (issue 28). The counts are measured here; the
-//! estimate is a model (`docs/notes/gpu-cost-model.md`). The report goes to
-//! `target/gpu-budget.json`.
+//! gated against the headset's frame budget (issue 28); each row carries what the Adreno's own
+//! compiler (ir3 on turnip, `cargo xtask turnip`, `VR_OCEAN_TURNIP`) makes of the water's
+//! paths (issue 42). `gpu-budget --calibrate` must predict the device it runs on (lavapipe
+//! here) and the recorded runs of a real GPU (`docs/notes/calibration`). The counts are
+//! measured here; the headset estimates are models (`docs/notes/gpu-cost-model.md`). The
+//! reports go to `target/gpu-budget.json` and `target/gpu-calibration.json`.
 
 mod common;
 
@@ -27,19 +30,35 @@ fn every_standard_view_fits_its_headsets_budget() {
         .parent()
         .unwrap()
         .join("gpu-budget.json");
-    let run = std::process::Command::new(env!("CARGO_BIN_EXE_vr-ocean"))
-        .args([
-            "gpu-budget",
-            "--json",
-            "--validation",
-            "--threads",
-            "2",
-            "--out",
-        ])
-        .arg(&out)
-        .env("RUST_BACKTRACE", "0")
-        .output()
-        .expect("the binary runs");
+    // The Adreno compiler where `cargo xtask test` built it; without it (a developer's quick
+    // run), the rows leave it out and this says so; in CI its absence fails.
+    let turnip = std::env::var_os("VR_OCEAN_TURNIP");
+    assert!(
+        turnip.is_some() || std::env::var_os("CI").is_none(),
+        "VR_OCEAN_TURNIP is not set: `cargo xtask test` builds the Adreno compiler (cargo xtask \
+         turnip) and sets it"
+    );
+    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_vr-ocean"));
+    cmd.args([
+        "gpu-budget",
+        "--json",
+        "--validation",
+        "--threads",
+        "2",
+        "--out",
+    ])
+    .arg(&out)
+    .env("RUST_BACKTRACE", "0");
+    match &turnip {
+        Some(dir) => {
+            cmd.arg("--turnip").arg(dir);
+        }
+        None => {
+            eprintln!("VR_OCEAN_TURNIP not set: the Adreno statistics are not checked");
+            cmd.arg("--no-adreno");
+        }
+    }
+    let run = cmd.output().expect("the binary runs");
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert!(run.status.success(), "gpu-budget failed: {stderr}");
     let rows: serde_json::Value = serde_json::from_slice(&run.stdout).expect("JSON on stdout");
@@ -83,6 +102,9 @@ fn every_standard_view_fits_its_headsets_budget() {
         }
         assert_eq!(n("plain"), 0, "the headsets' defaults have specular AA on");
         assert!(n("vertex_invocations") > 0);
+        if turnip.is_some() {
+            check_adreno(r);
+        }
         let gate = NOT_YET
             .iter()
             .find(|(h, v, _)| *h == headset && *v == view)
@@ -115,6 +137,30 @@ fn the_model_follows_the_apps_headset_defaults() {
 
 #[test]
 fn bad_arguments_are_refused() {
+    assert_rejected(
+        &[
+            "gpu-budget",
+            "--calibrate",
+            "--from",
+            "/nonexistent/vr-ocean-calibration.json",
+        ],
+        &["--from", "/nonexistent/vr-ocean-calibration.json"],
+    );
+    assert_rejected(
+        &["gpu-budget", "--calibrate", "--repeats", "0"],
+        &["repeats"],
+    );
+    assert_rejected(&["gpu-budget", "--calibrate", "--scale", "0.5"], &["scale"]);
+    assert_rejected(
+        &[
+            "gpu-budget",
+            "--turnip",
+            "/nonexistent/vr-ocean-turnip",
+            "--views",
+            "down",
+        ],
+        &["/nonexistent/vr-ocean-turnip", "cargo xtask turnip"],
+    );
     let out = scratch_path("budget.json");
     let out = out.to_str().unwrap();
     assert_rejected(&["gpu-budget", "--scale", "0", "--out", out], &["scale"]);
@@ -127,4 +173,152 @@ fn bad_arguments_are_refused() {
         &["gpu-budget", "--costs-from", "/nonexistent/vr-ocean-costs"],
         &["costs-from", "/nonexistent/vr-ocean-costs"],
     );
+}
+
+/// A row's Adreno statistics: its headset's GPU, every water path and the drawn pipeline's two
+/// shaders as ir3 compiled them, sensible, and the estimate made of them.
+fn check_adreno(r: &serde_json::Value) {
+    let headset = r["headset"].as_str().unwrap();
+    let gpu = if headset == "Quest 2" { "a650" } else { "a740" };
+    assert_eq!(r["adreno_gpu"].as_str(), Some(gpu), "{headset}");
+    let paths = r["adreno_paths"].as_array().expect("adreno_paths");
+    let names: Vec<&str> = paths.iter().map(|p| p["path"].as_str().unwrap()).collect();
+    for want in [
+        "sky",
+        "single",
+        "supersampled",
+        "supersampled_resampled",
+        "foam",
+        "plain",
+        "detail",
+        "union",
+        "pipeline",
+        "vertex",
+    ] {
+        assert!(names.contains(&want), "{headset}: no {want} in {names:?}");
+    }
+    let get = |path: &str, key: &str| {
+        paths.iter().find(|p| p["path"] == path).unwrap()[key]
+            .as_u64()
+            .unwrap()
+    };
+    for p in paths {
+        let n = |k: &str| p[k].as_u64().unwrap();
+        assert!(n("instructions") > n("nops"), "{headset}: {p}");
+        assert!(
+            n("full_registers") > 0 && (1..=16).contains(&n("max_waves")),
+            "{p}"
+        );
+        assert!(n("alu") > 0 && n("texture") > 0, "{p}");
+    }
+    // More work, more instructions: supersampling, foam and the union add to the single path.
+    for more in ["supersampled", "foam", "union"] {
+        assert!(
+            get(more, "instructions") > get("single", "instructions"),
+            "{more}"
+        );
+    }
+    // The fewer registers, the more waves.
+    assert!(get("sky", "max_waves") >= get("union", "max_waves"));
+    let e = &r["adreno_estimate"];
+    assert!(e["ms"].as_f64().unwrap() > 0.0, "{headset}: {e}");
+}
+
+/// The model's error on each view of a calibration (predicted over measured, less one).
+fn calibration_errors(args: &[&str]) -> Vec<(String, f64)> {
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_vr-ocean"))
+        .args(["gpu-budget", "--calibrate", "--json"])
+        .args(args)
+        .env("RUST_BACKTRACE", "0")
+        .output()
+        .expect("the binary runs");
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        run.status.success(),
+        "gpu-budget --calibrate failed: {stderr}"
+    );
+    let rows: serde_json::Value = serde_json::from_slice(&run.stdout).expect("JSON on stdout");
+    rows.as_array()
+        .expect("an array")
+        .iter()
+        .map(|r| {
+            let (p, m) = (
+                r["predicted_ms"].as_f64().unwrap(),
+                r["measured_ms"].as_f64().unwrap(),
+            );
+            println!(
+                "{} {}: predicted {p:.2} ms, measured {m:.2} ms ({:+.0} %)",
+                r["device"].as_str().unwrap(),
+                r["view"].as_str().unwrap(),
+                100.0 * r["error"].as_f64().unwrap()
+            );
+            (r["view"].as_str().unwrap().to_string(), p / m - 1.0)
+        })
+        .collect()
+}
+
+/// The goal: every view within 25 % of its pass's measured time.
+const CALIBRATION_GATE: f64 = 0.25;
+
+/// The lavapipe views the model does not predict within the goal yet, each with a ceiling (its
+/// error in three calibrations on Zen 5, at worst, plus 8 points of the host's drift): the
+/// model's shading of the water's large triangles comes out 25-35 % short on this CPU device
+/// (its grids, branches and samples are measured right; BENCHMARKS.md has what was tried).
+const CALIBRATION_NOT_YET: [(&str, f64); 3] =
+    [("horizon", 0.33), ("glitter", 0.45), ("down", 0.40)];
+
+#[test]
+fn the_model_predicts_the_device_it_runs_on() {
+    let report = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .parent()
+        .unwrap()
+        .join("gpu-calibration.json");
+    let report = report.to_str().unwrap();
+    let errors = calibration_errors(&[
+        "--validation",
+        "--threads",
+        "2",
+        "--repeats",
+        "3",
+        "--frames",
+        "6",
+        "--report",
+        report,
+    ]);
+    assert_eq!(errors.len(), budget::VIEWS.len());
+    let mut over = Vec::new();
+    for (view, error) in errors {
+        let gate = CALIBRATION_NOT_YET
+            .iter()
+            .find(|(v, _)| *v == view)
+            .map_or(CALIBRATION_GATE, |&(_, g)| g);
+        if error.abs() > gate {
+            over.push(format!(
+                "{view}: {:+.0} % (gate {:.0} %)",
+                100.0 * error,
+                100.0 * gate
+            ));
+        }
+    }
+    assert!(
+        over.is_empty(),
+        "the model misses the measured pass: {over:?}"
+    );
+}
+
+/// The NVIDIA H200's recorded calibrations (three runs of `docs/tools/gpu-calibration.sh`: the
+/// Quest 2 eye size with and without the specular anti-aliasing, the Quest 3 eye size), fitted
+/// again and predicted by the model as it is now: within 15 % (they were within 8 % when
+/// recorded), so that a change to the model that loses the one real GPU it predicts fails.
+#[test]
+fn the_model_still_predicts_the_recorded_gpu() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/notes/calibration");
+    for run in ["h200-aa.json", "h200-no-aa.json", "h200-q3.json"] {
+        let file = dir.join(run);
+        let errors = calibration_errors(&["--from", file.to_str().unwrap()]);
+        assert_eq!(errors.len(), budget::VIEWS.len(), "{run}");
+        for (view, error) in errors {
+            assert!(error.abs() <= 0.15, "{run} {view}: {:+.0} %", 100.0 * error);
+        }
+    }
 }

@@ -162,6 +162,7 @@ pub fn gpu_budget_cmd(a: GpuBudgetArgs) -> CmdResult {
             if let Some(paths) = &adreno {
                 row.adreno_gpu = Some(format!("a{}", model.adreno));
                 row.adreno_paths = paths.clone();
+                row.adreno_estimate = budget::headset::adreno_estimate(model, &row.counts, paths);
             }
             if !a.json {
                 eprintln!(

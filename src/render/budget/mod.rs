@@ -16,6 +16,7 @@
 
 pub mod adreno;
 pub mod calibration;
+pub mod headset;
 pub mod spirv;
 
 use self::spirv::InstructionCounts;
@@ -52,6 +53,13 @@ pub struct GpuFigures {
     pub samples_per_s: f64,
     /// DRAM bandwidth (bytes/s) the resolved eye images are stored through.
     pub bytes_per_s: f64,
+    /// The clock (Hz) the figures are at.
+    pub clock_hz: f64,
+    /// Pixels its render back-ends write per second (colour and depth of all samples on the
+    /// tile).
+    pub pixels_per_s: f64,
+    /// Triangles its front end sets up per second.
+    pub triangles_per_s: f64,
 }
 
 /// Fixed foveation's level, with the share of fragment shading it saves (modelled).
@@ -110,8 +118,9 @@ impl HeadsetModel {
 }
 
 /// Quest 2: Adreno 650 (512 FP32 lanes, FP16 at twice the rate) at 490 MHz (GPU level 3, Meta's
-/// CPU and GPU levels page), 32 bilinear texels a clock (16 trilinear), LPDDR4X at 34 GB/s;
-/// 1440 × 1584 eye buffers at 72 Hz, MSAA 4, high foveation, the medium preset.
+/// CPU and GPU levels page), 32 bilinear texels a clock (16 trilinear), 24 pixels a clock
+/// (third-party listings of its render back-ends), a triangle a clock (assumption), LPDDR4X at
+/// 34 GB/s; 1440 × 1584 eye buffers at 72 Hz, MSAA 4, high foveation, the medium preset.
 pub const QUEST_2: HeadsetModel = HeadsetModel {
     name: "Quest 2",
     gpu: GpuFigures {
@@ -120,6 +129,9 @@ pub const QUEST_2: HeadsetModel = HeadsetModel {
         fp16_rate: 2.0,
         samples_per_s: 16.0 * 490e6,
         bytes_per_s: 34.1e9,
+        clock_hz: 490e6,
+        pixels_per_s: 24.0 * 490e6,
+        triangles_per_s: 490e6,
     },
     eye: (1440, 1584),
     refresh_hz: 72.0,
@@ -130,8 +142,8 @@ pub const QUEST_2: HeadsetModel = HeadsetModel {
 };
 
 /// Quest 3: Adreno 740 at 599 MHz (the default maximum since a 2024 firmware, UploadVR), taken
-/// as Qualcomm's "up to 2.5x" the XR2 Gen 1's peak (512 lanes at 587 MHz) for ALU and texture
-/// rate, LPDDR5 at 51 GB/s; 1680 × 1760 eye buffers at 90 Hz, MSAA 4, medium foveation, the
+/// as Qualcomm's "up to 2.5x" the XR2 Gen 1's peak (512 lanes at 587 MHz) for ALU, texture,
+/// pixel and triangle rate, LPDDR5 at 51 GB/s; 1680 × 1760 eye buffers at 90 Hz, MSAA 4, medium foveation, the
 /// high preset.
 pub const QUEST_3: HeadsetModel = HeadsetModel {
     name: "Quest 3",
@@ -141,6 +153,9 @@ pub const QUEST_3: HeadsetModel = HeadsetModel {
         fp16_rate: 2.0,
         samples_per_s: 2.5 * 16.0 * 587e6,
         bytes_per_s: 51.2e9,
+        clock_hz: 599e6,
+        pixels_per_s: 2.5 * 24.0 * 587e6,
+        triangles_per_s: 2.5 * 587e6,
     },
     eye: (1680, 1760),
     refresh_hz: 90.0,
@@ -387,6 +402,9 @@ pub struct ViewEstimate {
     /// Each water path, and the drawn pipeline's fragment and vertex shaders, as ir3 compiled
     /// them for that GPU.
     pub adreno_paths: Vec<adreno::AdrenoPath>,
+    /// The estimate from the calibrated structure with ir3's counts and the published rates
+    /// (`render::budget::headset`); `None` without the Adreno statistics.
+    pub adreno_estimate: Option<headset::AdrenoEstimate>,
 }
 
 /// The estimate for `headset` of a frame that measured `counts`, with `costs` per invocation.
@@ -439,6 +457,7 @@ pub fn estimate(
         counts: *counts,
         adreno_gpu: None,
         adreno_paths: Vec::new(),
+        adreno_estimate: None,
     }
 }
 
@@ -446,12 +465,12 @@ pub fn estimate(
 pub fn table(rows: &[ViewEstimate]) -> String {
     let mut out = String::from(
         "headset  view     inv/px  ss%   ALU/px  tex/px  vert ms  ALU ms  tex ms  store ms  \
-         est. ms  budget ms  share\n",
+         est. ms  budget ms  share  ir3 ms  ir3 share\n",
     );
     for r in rows {
         out.push_str(&format!(
             "{:<8} {:<8} {:>6.2} {:>4.0} {:>7.0} {:>7.1} {:>8.2} {:>7.2} {:>7.2} {:>9.2} {:>8.2} \
-             {:>10.1} {:>5.0}%\n",
+             {:>10.1} {:>5.0}% {:>7} {:>10}\n",
             r.headset,
             r.view,
             r.invocations_per_pixel,
@@ -464,7 +483,11 @@ pub fn table(rows: &[ViewEstimate]) -> String {
             r.parts_ms[3],
             r.estimated_ms,
             r.budget_ms,
-            100.0 * r.share
+            100.0 * r.share,
+            r.adreno_estimate
+                .map_or("-".to_string(), |e| format!("{:.2}", e.ms)),
+            r.adreno_estimate
+                .map_or("-".to_string(), |e| format!("{:.0}%", 100.0 * e.share)),
         ));
     }
     out
