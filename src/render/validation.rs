@@ -1,4 +1,4 @@
-//! The validation layer's messages: a debug messenger callback ([`on_message`]) that counts
+//! The validation layer's messages: a debug messenger callback (`on_message`) that counts
 //! the layer's errors and warnings into a [`ValidationLog`] (tests fail on any error) and logs
 //! them.
 

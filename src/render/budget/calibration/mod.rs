@@ -26,10 +26,10 @@
 //! every branch taken (`cost_union.frag`).
 //!
 //! `n_a` are the fragments whose triangle covers about `a` pixels (the counting pass sizes
-//! each fragment's triangle, [`PathCounts::by_area`]). Small triangles cost more than their
+//! each fragment's triangle, [`PathCounts::by_area`](super::PathCounts::by_area)). Small triangles cost more than their
 //! pixels: each is set up, and a GPU shades 2×2 quads and lavapipe 4×4 blocks, partly empty
 //! along every edge (the far sea's slivers most); the counting pass estimates the lanes of
-//! each block side ([`PathCounts::quarter_lanes`]) and the grids of 1- to 32-pixel cells
+//! each block side ([`PathCounts::quarter_lanes`](super::PathCounts::quarter_lanes)) and the grids of 1- to 32-pixel cells
 //! tell which side the device shades in, and what set-up costs it per fragment.
 //!
 //! - this file: the passes as measured ([`KernelMeasurement`]);
