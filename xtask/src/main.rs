@@ -80,6 +80,7 @@ const APT_PACKAGES: &[&str] = &[
     "libzstd-dev",
     "patch",
     "xz-utils",
+    "dpkg-dev",
     // The APK checked without the NDK: aapt and aapt2 (package `aapt`), zipalign, apksigner
     // (its Java runtime brings keytool), framework-res.apk of API 29 as aapt2's `-I`, clang and
     // lld for the stub system libraries, llvm for llvm-readelf, zip/unzip for the loader AAR.
