@@ -14,7 +14,10 @@
 //   wave's normal, rougher water around it; fog to the sky at the horizon.
 //
 // Specular anti-aliasing (g.specular_aa.y = 1). With no temporal filter in a headset, the far
-// sea must not sparkle:
+// sea must not sparkle. The distribution is filtered, not sampled (issue 43): the lobe widens
+// by the slope variance the pixel cannot show (below), over normal maps read anisotropically
+// along the footprint on a GPU; on the headsets that alone holds the aliasing gate. Where a
+// device has headroom (the desktop; g.filtering.y = 1) the highlight is also supersampled:
 // - where the finest cascade is minified (its texels under half a pixel), the terms that
 //   alias, those of the surface (the Fresnel weight of the reflected sky and the sun's narrow
 //   highlight, both changing fast with a normal that changes within the pixel), are averaged
@@ -185,8 +188,15 @@ const vec3 WATER_SCATTER_COLOUR = vec3(0.48, 0.67, 1.0);
 // Diffuse albedo of foam (fresh foam is 0.5-0.8 over the visible).
 const vec3 FOAM_ALBEDO = vec3(0.75, 0.78, 0.8);
 // Screen-space filter: variance of the pixel footprint and the largest added alpha^2
-// (Tokuyoshi & Kaplanyan 2019).
+// (Tokuyoshi & Kaplanyan 2019), for the supersampled path's own sample...
 const float PIXEL_VARIANCE = 0.25;
+// ...and for a pixel shaded once, whose normal maps' samples (anisotropic on a GPU) already
+// average its footprint: the change of that average between pixels is mostly variance their
+// length has shown (Toksvig). A quarter of the kernel measured least far-band error against
+// the supersampled reference (issue 43, `tests/render_aliasing.rs`, Mesa 25 lavapipe with 4
+// taps: facing the sun 0.591x no-AA at 0.25, 0.561 at 0.125, 0.558 at 0.0625, 0.570 at 0;
+// 0.68 at 0.5).
+const float FILTERED_PIXEL_VARIANCE = 0.0625;
 const float MAX_KERNEL_ALPHA2 = 0.18;
 // Sub-pixel positions (in pixels) of the supersampled surface besides the pixel's own sample at
 // its centre: a triangle around it.
@@ -777,9 +787,9 @@ void main() {
         Lobe l = lobe_of(sample_a2(w.smoothness, -1.0, f.coverage, tail));
         SET_COLOUR(surface_light(w.n, body, sv, l));
     } OTHERWISE {
-        mediump float kernel = min(2.0 * PIXEL_VARIANCE * (dot(dndx, dndx) + dot(dndy, dndy)),
-                           MAX_KERNEL_ALPHA2);
-        if (TAKES_SUPERSAMPLING(lod > SUPERSAMPLE_FROM_LOD && FULL_DENSITY)) {
+        mediump float change = dot(dndx, dndx) + dot(dndy, dndy);
+        mediump float kernel = min(2.0 * PIXEL_VARIANCE * change, MAX_KERNEL_ALPHA2);
+        if (TAKES_SUPERSAMPLING(lod > SUPERSAMPLE_FROM_LOD && FULL_DENSITY && g.filtering.y > 0.5)) {
             // Each sub-sample filters a third of the pixel's extent (mips log2(3) levels
             // finer), its variance terms scaled to that footprint: the normal's change across
             // it is a ninth of that across the pixel. A cascade's mip level is the finest's
@@ -805,7 +815,10 @@ void main() {
                                             tail + kernel * (1.0 / 9.0), f.coverage));
         } OTHERWISE {
             COUNT(COUNT_SINGLE, 1u);
-            Lobe l = lobe_of(sample_a2(w.smoothness, w.filtered + tail + kernel, f.coverage, tail));
+            mediump float filtered_kernel = min(2.0 * FILTERED_PIXEL_VARIANCE * change,
+                                                MAX_KERNEL_ALPHA2);
+            Lobe l = lobe_of(sample_a2(w.smoothness, w.filtered + tail + filtered_kernel,
+                                       f.coverage, tail));
             SET_COLOUR(surface_light(w.n, body, sv, l));
         }
     }

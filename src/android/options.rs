@@ -56,6 +56,9 @@ pub fn run_options(
         lod: LodSettings::new(preset, OceanSize::new(QUEST_OCEAN_SIZE)?),
         renderer: RendererSettings {
             anisotropy: Anisotropy::X4,
+            // The filtered lobe with anisotropic filtering holds the aliasing gate alone;
+            // supersampling would cost the headset a third of its pass (issue 43).
+            supersampling: false,
             ..RendererSettings::default()
         },
         capture: Vec::new(),

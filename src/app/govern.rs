@@ -11,6 +11,7 @@
 use std::time::Duration;
 
 use crate::lod::QualityPreset;
+use crate::render::ocean::{Anisotropy, RendererSettings};
 use crate::render::{OceanRenderer, RenderError};
 use crate::xr::gpu_governor::{scaled_rect, GovernorCaps, GovernorState, GpuGovernor, QualityStep};
 use crate::xr::{FrameLoop, FrameState};
@@ -127,8 +128,8 @@ pub struct GovernorChange {
 pub(super) struct Governed {
     governor: GpuGovernor,
     options: GovernorOptions,
-    /// The user's specular AA setting (the level only ever turns it off).
-    specular_aa: bool,
+    /// The user's supersampling setting (the level only ever turns it off).
+    supersampling: bool,
     /// The user's preset (the level lowers it by one at most).
     pub preset: QualityPreset,
     /// The changes so far (capacity [`HISTORY`], never grown).
@@ -151,13 +152,13 @@ impl Governed {
         options: GovernorOptions,
         xr: &dyn FrameLoop,
         preset: QualityPreset,
-        specular_aa: bool,
+        renderer: &RendererSettings,
     ) -> Option<Self> {
         if !options.enabled {
             return None;
         }
         let caps = GovernorCaps {
-            supersampling: specular_aa,
+            supersampling: renderer.supersampling || renderer.anisotropy != Anisotropy::Off,
             lod: lower_preset(preset).is_some(),
             ..xr.governor_caps()
         };
@@ -175,7 +176,7 @@ impl Governed {
         Some(Self {
             governor: GpuGovernor::new(caps),
             options,
-            specular_aa,
+            supersampling: renderer.supersampling,
             preset,
             history: Vec::with_capacity(HISTORY),
         })
@@ -242,7 +243,7 @@ impl Governed {
         renderer: &mut OceanRenderer,
         xr: &mut dyn FrameLoop,
     ) -> Result<(), RenderError> {
-        renderer.set_specular_aa(self.specular_aa && level < QualityStep::NoSupersampling);
+        renderer.set_supersampling(self.supersampling && level < QualityStep::NoSupersampling);
         renderer.set_anisotropic(level < QualityStep::NoSupersampling);
         let boost = level >= QualityStep::FoveationUp;
         if !xr.set_foveation_boost(boost) && boost && xr.governor_caps().foveation {

@@ -250,12 +250,8 @@ impl<'a> Frames<'a> {
                 }
             }
         };
-        let governed = govern::Governed::new(
-            opts.governor,
-            &*xr,
-            opts.lod.preset(),
-            opts.renderer.specular_aa,
-        );
+        let governed =
+            govern::Governed::new(opts.governor, &*xr, opts.lod.preset(), &opts.renderer);
         if let Some(g) = governed.as_ref() {
             xr.report_governor(g.state());
         }

@@ -217,6 +217,11 @@ pub struct ViewArgs {
     /// sparkling.
     #[arg(long, value_enum, default_value_t = OnOff::On)]
     pub specular_aa: OnOff,
+    /// The specular AA's supersampling of the highlight where the waves' finest cascade is
+    /// minified (four shading positions per pixel there, 1.3-1.5x the pass): a quality option
+    /// for a desktop GPU with headroom; the headsets filter the lobe instead (off).
+    #[arg(long, value_enum, default_value_t = OnOff::On)]
+    pub supersampling: OnOff,
     /// Anisotropic filtering of the waves' normal maps: most taps along a pixel's footprint
     /// (1 = off, 2, 4, 8 or 16; at most what the device has) [default: 4 on a GPU, 1 on a CPU
     /// Vulkan device (lavapipe), which filters every tap in software].
@@ -316,6 +321,7 @@ impl ViewArgs {
                     ))?,
                 },
                 specular_aa: self.specular_aa == OnOff::On,
+                supersampling: self.supersampling == OnOff::On,
                 anisotropy: match self.anisotropy {
                     None => Anisotropy::X4,
                     Some(n) => Anisotropy::from_taps(n).ok_or(ParamError::new(

@@ -95,7 +95,9 @@ pub struct Globals {
     /// and the bubbles are drawn at rest position − this; z, w unused.
     pub foam_drift: [f32; 4],
     /// Filtering: the most taps the normal maps' anisotropic sampler takes now (x; 1: the
-    /// trilinear sampler is read, [`crate::render::ocean::Anisotropy`]); y, z, w unused.
+    /// trilinear sampler is read, [`crate::render::ocean::Anisotropy`]); y: 1 = the specular
+    /// AA also supersamples the minified highlight
+    /// ([`crate::render::ocean::RendererSettings::supersampling`]); z, w unused.
     pub filtering: [f32; 4],
 }
 

@@ -11,8 +11,9 @@
 //! seconds (passed in, so tests script time). The levels ([`QualityStep`]) are stepped one at
 //! a time, cheapest loss first:
 //!
-//! 1. [`QualityStep::NoSupersampling`]: the specular AA's supersampling off (about half of
-//!    all shading work where the finest cascade is minified);
+//! 1. [`QualityStep::NoSupersampling`]: the specular AA's supersampling off where it is on
+//!    (the desktop; about a third of the pass) and the normal maps' anisotropic filtering (the
+//!    filtered lobe stays);
 //! 2. [`QualityStep::FoveationUp`]: one fixed-foveation level higher;
 //! 3. [`QualityStep::Scale85`] and [`QualityStep::Scale70`]: the eye images rendered into a
 //!    centred sub-rectangle of 0.85 and 0.7 of their size (the compositor scales it back);
@@ -93,8 +94,8 @@ impl QualityStep {
 /// What the backend lets the governor change besides the renderer's own settings.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct GovernorCaps {
-    /// The specular AA supersamples now, so turning it off saves something
-    /// ([`QualityStep::NoSupersampling`]; the app's to say).
+    /// The specular AA supersamples or the normal maps are filtered anisotropically now, so
+    /// turning both off saves something ([`QualityStep::NoSupersampling`]; the app's to say).
     pub supersampling: bool,
     /// Fixed foveation can be raised one level ([`QualityStep::FoveationUp`]).
     pub foveation: bool,

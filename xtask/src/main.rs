@@ -224,7 +224,7 @@ const STEPS: &[Step] = &[
     },
     Step {
         name: "openxr (Monado)",
-        header: "OpenXR tests against Monado (trixie chroot, null compositor, simulated HMD; needs root), and anisotropic filtering on its Mesa 25 lavapipe",
+        header: "OpenXR tests against Monado (trixie chroot, null compositor, simulated HMD; needs root), and anisotropic filtering and the headsets' specular AA on its Mesa 25 lavapipe",
         run: Run::Cargo(&[
             "test",
             "--test",
@@ -233,6 +233,8 @@ const STEPS: &[Step] = &[
             "openxr_no_alloc",
             "--test",
             "render_anisotropy",
+            "--test",
+            "render_aliasing",
             "--",
             "--ignored",
             "--nocapture",

@@ -95,6 +95,13 @@ pub struct RendererSettings {
     /// filtered normal maps, sub-pixel normal variation) widens the sun's highlight instead of
     /// sparkling. Switchable at run time ([`OceanRenderer::set_specular_aa`]).
     pub specular_aa: bool,
+    /// The specular AA also supersamples the highlight where the finest cascade is minified
+    /// (four shading positions per pixel, 1.3-1.5x the pass): a quality option for a device
+    /// with headroom (the desktop). Off on the headsets, where the filtered lobe with the
+    /// normal maps' anisotropic filtering meets the aliasing gate alone (issue 43,
+    /// `tests/render_aliasing.rs`). Switchable at run time
+    /// ([`OceanRenderer::set_supersampling`]; the GPU-time governor's first step).
+    pub supersampling: bool,
     /// Anisotropic filtering of the cascades' normal maps where the device has it
     /// ([`Anisotropy`]; at most its `maxSamplerAnisotropy`). Off by default (a CPU device,
     /// lavapipe, filters every tap in software); the apps ask for it on a GPU. Switchable off
@@ -155,6 +162,7 @@ impl Default for RendererSettings {
             stereo: StereoMode::Multiview,
             msaa: Msaa::X4,
             specular_aa: true,
+            supersampling: true,
             anisotropy: Anisotropy::Off,
             whitecaps: true,
             foam_streaks: true,
@@ -368,6 +376,11 @@ impl OceanRenderer {
         };
         let mut globals = self.pass.globals(input, &self.settings, self.sky.light());
         globals.filtering[0] = taps as f32;
+        globals.filtering[1] = if self.settings.supersampling {
+            1.0
+        } else {
+            0.0
+        };
         slot.write_globals(&globals);
         let skirt_instance = slot.write_instances(input.lod)?;
         let solid_draws = slot.write_solids(input.solids)?;
@@ -504,10 +517,16 @@ impl OceanRenderer {
         Ok(())
     }
 
-    /// Turns the specular AA's supersampling on or off from the next frame (the GPU-time
-    /// governor's first step): only the uniform it writes changes, nothing is rebuilt.
+    /// Turns the specular AA (the filtered lobe, and the supersampling where that is on) on or
+    /// off from the next frame: only the uniform it writes changes, nothing is rebuilt.
     pub fn set_specular_aa(&mut self, on: bool) {
         self.settings.specular_aa = on;
+    }
+
+    /// Turns the specular AA's supersampling on or off from the next frame (the GPU-time
+    /// governor's first step; the filtered lobe stays): only the uniform changes.
+    pub fn set_supersampling(&mut self, on: bool) {
+        self.settings.supersampling = on;
     }
 
     /// Turns the anisotropic filtering of the normal maps off or back on from the next frame
