@@ -409,3 +409,90 @@ fn frame_times_on_lavapipe() {
         }
     }
 }
+
+/// What the headsets' specular AA may cost at the Quest 2 eye size (issue 43): the filtered lobe
+/// alone, no supersampling, on the pass's own timestamps.
+const HEADSET_SPECULAR_AA_COST: f64 = 1.25;
+
+/// The p50 of the GPU pass (ms) of `vr-ocean headless` with `args`, from its timing table.
+fn headless_gpu_pass(args: &[&str]) -> f64 {
+    let out = scratch_dir("aa-cost");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_vr-ocean"))
+        .arg("headless")
+        .args(args)
+        .arg("--out")
+        .arg(&out)
+        .env("RUST_BACKTRACE", "0")
+        .output()
+        .expect("the binary runs");
+    let _ = std::fs::remove_dir_all(&out);
+    let text =
+        String::from_utf8_lossy(&run.stdout).into_owned() + &String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "headless {args:?} failed: {text}");
+    text.lines()
+        .find_map(|l| l.strip_prefix("gpu_pass"))
+        .and_then(|l| l.split_whitespace().next()?.parse().ok())
+        .unwrap_or_else(|| panic!("no gpu_pass line in: {text}"))
+}
+
+/// A fresh scratch folder under the system's temporary one.
+fn scratch_dir(what: &str) -> PathBuf {
+    std::env::temp_dir().join(format!("vr-ocean-{what}-{}", std::process::id()))
+}
+
+/// On lavapipe at the Quest 2 eye size (1440x1584, MSAA 4, standing at 1.7 m facing the
+/// horizon, the medium preset) the pass with the headsets' specular AA (the filtered lobe,
+/// supersampling off) costs at most [`HEADSET_SPECULAR_AA_COST`] the pass without it; the
+/// ratio is the median over rounds of on over off within a round (the runs alternate).
+/// Anisotropic filtering is left off: Mesa 22.3's lavapipe filters its taps ~50x slower than
+/// a GPU's texture unit (`tests/render_anisotropy.rs`).
+#[test]
+fn frame_times_on_lavapipe_headset_specular_aa_at_the_quest_2_eye_size() {
+    let path = scratch_dir("aa-cost-path");
+    std::fs::write(&path, "0 0 1.7 0 0 0\n").unwrap();
+    let path_arg = path.to_str().unwrap().to_string();
+    let run = |aa: &str| {
+        headless_gpu_pass(&[
+            "--size",
+            "1440x1584",
+            "--msaa",
+            "4",
+            "--specular-aa",
+            aa,
+            "--supersampling",
+            "off",
+            "--anisotropy",
+            "1",
+            "--preset",
+            "medium",
+            "--bodies",
+            "0",
+            "--frames",
+            "4",
+            "--warmup",
+            "1",
+            "--validation",
+            "--path",
+            &path_arg,
+        ])
+    };
+    let mut ratios = Vec::new();
+    for _ in 0..3 {
+        let on = run("on");
+        let off = run("off");
+        println!("GPU pass p50 at 1440x1584, MSAA 4: specular AA on {on:.0} ms, off {off:.0} ms");
+        ratios.push(on / off);
+    }
+    let _ = std::fs::remove_file(&path);
+    ratios.sort_by(f64::total_cmp);
+    let ratio = ratios[ratios.len() / 2];
+    println!(
+        "the headsets' specular AA at the Quest 2 eye size on lavapipe ({}): {ratio:.3}x the \
+         pass without it (rounds {ratios:.3?}; gate {HEADSET_SPECULAR_AA_COST})",
+        cpu_model()
+    );
+    assert!(
+        ratio <= HEADSET_SPECULAR_AA_COST,
+        "the headsets' specular AA costs {ratio:.3}x the pass without it at the Quest 2 eye size"
+    );
+}

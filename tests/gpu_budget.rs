@@ -1,8 +1,8 @@
 //! `vr-ocean gpu-budget --json` on lavapipe with the validation layer: every standard view of
-//! both headsets is counted at its eye size and default settings, and the model's estimate is
-//! gated against the headset's frame budget (issue 28); each row carries what the Adreno's own
-//! compiler (ir3 on turnip, `cargo xtask turnip`, `VR_OCEAN_TURNIP`) makes of the water's
-//! paths (issue 42). `gpu-budget --calibrate` must predict the device it runs on (lavapipe
+//! both headsets is counted at its eye size and default settings, and the estimate is gated
+//! against the headset's frame budget (issue 28; issue 43: the Adreno estimate, from what the
+//! Adreno's own compiler (ir3 on turnip, `cargo xtask turnip`, `VR_OCEAN_TURNIP`) makes of the
+//! water's paths, issue 42). Quest 3 at 120 Hz is priced from the Quest 3 frames, not gated. `gpu-budget --calibrate` must predict the device it runs on (lavapipe
 //! here) and the recorded runs of a real GPU (`docs/notes/calibration`). The counts are
 //! measured here; the headset estimates are models (`docs/notes/gpu-cost-model.md`). The
 //! reports go to `target/gpu-budget.json` and `target/gpu-calibration.json`.
@@ -17,12 +17,20 @@ use vr_ocean::xr::openxr::quest::Headset;
 /// goal, [`budget::GATE_SHARE`] (75 %).
 const GATE: f64 = budget::GATE_SHARE;
 
-/// The views whose estimate does not meet the goal yet (issue 28 is open on them), each with a
-/// ceiling: its latest estimate plus 5 points, so that it can only get better. Measured with
-/// `vr-ocean gpu-budget` after the special-function savings (lavapipe, Zen 5): Quest 2 25 m up
-/// 98 %, 99 % with the detail near the viewer (every other view of both headsets 73 % or less).
-/// Remove a line once its view meets the goal.
-const NOT_YET: [(&str, &str, f64); 1] = [("Quest 2", "high", 1.03)];
+/// The views whose Adreno estimate does not meet the goal yet (issue 43 is open on them), each
+/// with a ceiling: its latest estimate plus 5 points, so that it can only get better. Measured
+/// with `vr-ocean gpu-budget` once the headsets filtered the lobe instead of supersampling it
+/// (lavapipe's counts, ir3's statistics; Zen 5): Quest 2 101/96/82/125 %, Quest 3 77/72/46/100 %
+/// (horizon, glitter, down, high). Remove a line once its view meets the goal. (The SPIR-V
+/// model, gated where the Adreno statistics are not read, meets it everywhere.)
+const NOT_YET: [(&str, &str, f64); 6] = [
+    ("Quest 2", "horizon", 1.06),
+    ("Quest 2", "glitter", 1.01),
+    ("Quest 2", "down", 0.87),
+    ("Quest 2", "high", 1.30),
+    ("Quest 3", "horizon", 0.82),
+    ("Quest 3", "high", 1.05),
+];
 
 #[test]
 fn every_standard_view_fits_its_headsets_budget() {
@@ -64,7 +72,10 @@ fn every_standard_view_fits_its_headsets_budget() {
     assert!(run.status.success(), "gpu-budget failed: {stderr}");
     let rows: serde_json::Value = serde_json::from_slice(&run.stdout).expect("JSON on stdout");
     let rows = rows.as_array().expect("an array");
-    assert_eq!(rows.len(), budget::HEADSETS.len() * budget::VIEWS.len());
+    assert_eq!(
+        rows.len(),
+        (budget::HEADSETS.len() + budget::RATE_VARIANTS.len()) * budget::VIEWS.len()
+    );
     let saved: serde_json::Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
     assert_eq!(&saved, &serde_json::Value::Array(rows.clone()));
     let mut over = Vec::new();
@@ -91,23 +102,32 @@ fn every_standard_view_fits_its_headsets_budget() {
         );
         // The views see what they are named for.
         match view {
-            "horizon" | "glitter" => {
-                assert!(
-                    n("sky") > 0 && n("supersampled") > 0,
-                    "{headset} {view}: {c}"
-                );
-                assert!(n("resamples") > 0);
-            }
+            "horizon" | "glitter" => assert!(n("sky") > 0, "{headset} {view}: {c}"),
             "down" => assert_eq!(n("sky"), 0, "{headset} looking down sees no sky"),
             _ => {}
         }
         assert_eq!(n("plain"), 0, "the headsets' defaults have specular AA on");
+        // The headsets filter the lobe; supersampling is the desktop's (issue 43).
+        assert_eq!(
+            n("supersampled") + n("resamples"),
+            0,
+            "{headset} {view} supersampled: {c}"
+        );
         assert!(n("vertex_invocations") > 0);
         if turnip.is_some() {
             check_adreno(r);
+            assert_eq!(
+                r["model"], "adreno",
+                "{headset} {view}: the Adreno estimate"
+            );
+        }
+        if budget::RATE_VARIANTS.iter().any(|(m, _)| m.name == headset) {
+            // What Quest 3 at 120 Hz would need: printed above, not gated.
+            continue;
         }
         let gate = NOT_YET
             .iter()
+            .filter(|_| turnip.is_some())
             .find(|(h, v, _)| *h == headset && *v == view)
             .map_or(GATE, |&(_, _, ceiling)| ceiling);
         if estimated > gate * budget_ms {
@@ -262,11 +282,12 @@ fn calibration_errors(args: &[&str]) -> Vec<(String, f64)> {
 const CALIBRATION_GATE: f64 = 0.25;
 
 /// The lavapipe views the model does not predict within the goal yet, each with a ceiling (its
-/// error in four calibrations on Zen 5, at worst, plus 6-8 points of the host's drift): the
-/// model's shading of the water's large triangles comes out 25-35 % short on this CPU device
-/// (its grids, branches and samples are measured right; BENCHMARKS.md has what was tried).
-const CALIBRATION_NOT_YET: [(&str, f64); 3] =
-    [("horizon", 0.40), ("glitter", 0.45), ("down", 0.40)];
+/// error in the two calibrations on Zen 5 since the headsets filter the lobe instead of
+/// supersampling it, at worst, plus 8-11 points of the host's drift): the model's shading of the
+/// water's large triangles comes out 15-37 % short on this CPU device (its grids, branches and
+/// samples are measured right; BENCHMARKS.md has what was tried). Horizon (−3, −10 %) and high
+/// (+1, +14 %) meet the goal.
+const CALIBRATION_NOT_YET: [(&str, f64); 2] = [("glitter", 0.35), ("down", 0.45)];
 
 /// The tests that render at the headsets' eye sizes take turns: a calibration timed while
 /// another test renders on the same two cores would time the other test too.

@@ -157,12 +157,11 @@ pub fn gpu_budget_cmd(a: GpuBudgetArgs) -> CmdResult {
             let turnip = super::adreno::turnip_dir(a.turnip.as_deref());
             Some(super::adreno::adreno_paths(&turnip, model)?)
         };
+        let mut measured = Vec::with_capacity(views.len());
         for view in &views {
             let mut row = measure(&a, model, view, &costs)?;
             if let Some(paths) = &adreno {
-                row.adreno_gpu = Some(format!("a{}", model.adreno));
-                row.adreno_paths = paths.clone();
-                row.adreno_estimate = budget::headset::adreno_estimate(model, &row.counts, paths);
+                row.with_adreno(model, paths);
             }
             if !a.json {
                 eprintln!(
@@ -170,7 +169,21 @@ pub fn gpu_budget_cmd(a: GpuBudgetArgs) -> CmdResult {
                     row.headset, row.view, row.estimated_ms, row.budget_ms
                 );
             }
+            measured.push((*view, row.counts));
             rows.push(row);
+        }
+        // The same frames at another refresh rate: priced again, not rendered again.
+        for (variant, base) in &budget::RATE_VARIANTS {
+            if *base != model.name {
+                continue;
+            }
+            for (view, counts) in &measured {
+                let mut row = budget::estimate(variant, view, &costs, counts);
+                if let Some(paths) = &adreno {
+                    row.with_adreno(variant, paths);
+                }
+                rows.push(row);
+            }
         }
     }
     let json = serde_json::to_string_pretty(&rows)?;
