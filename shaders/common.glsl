@@ -129,6 +129,16 @@ vec3 horizontal_illuminance() {
 // Khronos PBR Neutral tone mapping: linear in, linear out in [0, 1] (the sRGB target encodes).
 // Below 0.76 colours pass unchanged but for a small black offset; above, the peak is
 // compressed toward 1 and desaturated so the brightest lights go white, not clipped hues.
+// The knee is a branch of its own (about half the curve's instructions): the water shader's
+// cost variants fix it (`TAKES_KNEE`, taken only by `COST_KNEE`'s and the union) and its
+// counting variant tallies the fragments that take it (`KNEE_TAKEN`), so that the GPU budget
+// prices the knee where the light reaches it, not everywhere.
+#ifndef TAKES_KNEE
+#define TAKES_KNEE(cond) (cond)
+#endif
+#ifndef KNEE_TAKEN
+#define KNEE_TAKEN()
+#endif
 const float PBR_NEUTRAL_START = 0.8 - 0.04;
 const float PBR_NEUTRAL_DESATURATION = 0.15;
 mediump vec3 tonemap(mediump vec3 c) {
@@ -136,9 +146,10 @@ mediump vec3 tonemap(mediump vec3 c) {
     mediump float offset = x < 0.08 ? x - 6.25 * x * x : 0.04;
     c -= offset;
     mediump float peak = max(c.r, max(c.g, c.b));
-    if (peak < PBR_NEUTRAL_START) {
+    if (!TAKES_KNEE(peak >= PBR_NEUTRAL_START)) {
         return c;
     }
+    KNEE_TAKEN();
     const float d = 1.0 - PBR_NEUTRAL_START;
     mediump float new_peak = 1.0 - d * d / (peak + d - PBR_NEUTRAL_START);
     c *= new_peak / peak;

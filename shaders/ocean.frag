@@ -39,6 +39,25 @@
 // rate on Adreno; coordinates, the shading normal, the sun's highlight and its GGX α² stay in
 // full precision (docs/notes/gpu-cost-model.md says why each).
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
+// The counting variant's tally (its layout below, `COUNT_*`), declared before the shared code
+// so that the tone curve's knee can be tallied in it.
+#ifdef COUNT_PATHS
+layout(set = 0, binding = 6, std430) buffer PathTally {
+    uint tally[44];
+} t_paths;
+// Tally of fragments through the tone curve's knee (`COUNT_KNEE`).
+#define KNEE_TAKEN() atomicAdd(t_paths.tally[43], 1u)
+#endif
+// A cost variant takes the knee only where it is asked to (`COST_KNEE`, the knee's own
+// variant) or takes every branch (the union).
+#ifdef COST_PATH
+#if defined(COST_KNEE) || COST_PATH == 7
+#define TAKES_KNEE(cond) true
+#else
+#define TAKES_KNEE(cond) false
+#endif
+#endif
 #include "common.glsl"
 
 // The choices a pixel makes, and the probes of `vr-ocean gpu-budget` (`render::budget`).
@@ -54,7 +73,6 @@
 // Every loop is unrolled ([[unroll]], constant bounds: cascade loops run to MAX_CASCADES and
 // skip the cascades beyond the count), so per-cascade arrays stay in registers; a loop bounded
 // by the uniform count left lavapipe indexing them in memory (3x the pass's time).
-#extension GL_EXT_control_flow_attributes : require
 #define UNROLL [[unroll]]
 #ifdef COST_PATH
 // The cost variants unroll the sub-samples too (one straight-line function to count); the
@@ -131,13 +149,12 @@ const int LANE_TALLIES = 3;
 // Then by the triangle's thickness (twice its area over its longest edge): bin 0 under a
 // quarter pixel, bin k in [2^(k-3), 2^(k-2)) pixels (`PathCounts::by_thickness`).
 const uint COUNT_THICKNESS = 27u;
+// Then the fragments whose colour went through the tone curve's knee (`KNEE_TAKEN`).
+const uint COUNT_KNEE = 43u;
 #ifdef COUNT_PATHS
 // A shader with side effects would otherwise run before the depth test: keep it where the
 // real one runs (it writes no depth and discards nothing, so early tests change no image).
 layout(early_fragment_tests) in;
-layout(set = 0, binding = 6, std430) buffer PathTally {
-    uint tally[43];
-} t_paths;
 #define COUNT(what, n) atomicAdd(t_paths.tally[what], n)
 #else
 #define COUNT(what, n)

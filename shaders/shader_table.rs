@@ -68,6 +68,13 @@ pub const COST_SHADERS: &[(&str, &str, &[&str])] = &[
         "cost_union.frag",
         &["COST_PATH=7", "COST_CASCADES=3", "COST_RESAMPLED=3"],
     ),
+    // Water shaded once, its colour through the tone curve's knee (the other variants take
+    // the curve's linear part only).
+    (
+        "ocean.frag",
+        "cost_knee.frag",
+        &["COST_PATH=2", "COST_CASCADES=3", "COST_RESAMPLED=0", "COST_KNEE=1"],
+    ),
     ("calibrate.frag", "cal_base.frag", &["KERNEL=0", "COUNT=0"]),
     ("calibrate.frag", "cal_alu.frag", &["KERNEL=1", "COUNT=96"]),
     ("calibrate.frag", "cal_relaxed.frag", &["KERNEL=2", "COUNT=96"]),

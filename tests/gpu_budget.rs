@@ -20,16 +20,15 @@ const GATE: f64 = budget::GATE_SHARE;
 /// The views whose Adreno estimate does not meet the goal yet (issue 43 is open on them), each
 /// with a ceiling: its latest estimate plus 5 points, so that it can only get better. Measured
 /// with `vr-ocean gpu-budget` once the headsets filtered the lobe instead of supersampling it
-/// (lavapipe's counts, ir3's statistics; Zen 5): Quest 2 101/96/82/125 %, Quest 3 77/72/46/100 %
-/// (horizon, glitter, down, high). Remove a line once its view meets the goal. (The SPIR-V
-/// model, gated where the Adreno statistics are not read, meets it everywhere.)
-const NOT_YET: [(&str, &str, f64); 6] = [
-    ("Quest 2", "horizon", 1.06),
-    ("Quest 2", "glitter", 1.01),
-    ("Quest 2", "down", 0.87),
-    ("Quest 2", "high", 1.30),
-    ("Quest 3", "horizon", 0.82),
-    ("Quest 3", "high", 1.05),
+/// and the tone curve's knee was priced where the light reaches it (lavapipe's counts, ir3's
+/// statistics; Zen 5): Quest 2 89/85/74/112 %, Quest 3 70/66/45/98 % (horizon, glitter, down,
+/// high). Remove a line once its view meets the goal. (The SPIR-V model, gated where the Adreno
+/// statistics are not read, meets it everywhere.)
+const NOT_YET: [(&str, &str, f64); 4] = [
+    ("Quest 2", "horizon", 0.94),
+    ("Quest 2", "glitter", 0.90),
+    ("Quest 2", "high", 1.17),
+    ("Quest 3", "high", 1.03),
 ];
 
 #[test]
@@ -213,6 +212,7 @@ fn check_adreno(r: &serde_json::Value) {
         "plain",
         "detail",
         "union",
+        "knee",
         "pipeline",
         "vertex",
     ] {
@@ -232,8 +232,9 @@ fn check_adreno(r: &serde_json::Value) {
         );
         assert!(n("alu") > 0 && n("texture") > 0, "{p}");
     }
-    // More work, more instructions: supersampling, foam and the union add to the single path.
-    for more in ["supersampled", "foam", "union"] {
+    // More work, more instructions: supersampling, foam, the tone curve's knee and the union
+    // add to the single path.
+    for more in ["supersampled", "foam", "knee", "union"] {
         assert!(
             get(more, "instructions") > get("single", "instructions"),
             "{more}"
@@ -285,9 +286,9 @@ const CALIBRATION_GATE: f64 = 0.25;
 /// error in the two calibrations on Zen 5 since the headsets filter the lobe instead of
 /// supersampling it, at worst, plus 8-11 points of the host's drift): the model's shading of the
 /// water's large triangles comes out 15-37 % short on this CPU device (its grids, branches and
-/// samples are measured right; BENCHMARKS.md has what was tried). Horizon (−3, −10 %) and high
-/// (+1, +14 %) meet the goal.
-const CALIBRATION_NOT_YET: [(&str, f64); 2] = [("glitter", 0.35), ("down", 0.45)];
+/// samples are measured right; BENCHMARKS.md has what was tried). Horizon meets the goal (−3,
+/// −10, −5 % in three runs); high came out +1, +14 and +22 %, too near it to hold.
+const CALIBRATION_NOT_YET: [(&str, f64); 3] = [("glitter", 0.35), ("down", 0.45), ("high", 0.35)];
 
 /// The tests that render at the headsets' eye sizes take turns: a calibration timed while
 /// another test renders on the same two cores would time the other test too.

@@ -220,7 +220,7 @@ fn costs_from(dir: &std::path::Path) -> Result<PathCosts, Box<dyn std::error::Er
                 .collect(),
         );
     }
-    let m: [&[u32]; 9] = std::array::from_fn(|i| words[i].as_slice());
+    let m: [&[u32]; 10] = std::array::from_fn(|i| words[i].as_slice());
     PathCosts::of_modules(m).map_err(|e| format!("--costs-from {}: {e}", dir.display()).into())
 }
 
@@ -343,6 +343,7 @@ fn measure(
             &mut counts.foam,
             &mut counts.plain,
             &mut counts.detail,
+            &mut counts.knee,
             &mut counts.aniso_taps,
             &mut counts.fragment_invocations,
         ] {

@@ -64,6 +64,9 @@ pub mod cost {
     /// Every path's work at once (each branch taken): what a device that runs both sides of
     /// every branch pays per fragment.
     pub const UNION: &[u32] = spirv!("cost_union.frag");
+    /// Water shaded once, its colour through the tone curve's knee (every other variant takes
+    /// the curve's linear part only).
+    pub const KNEE: &[u32] = spirv!("cost_knee.frag");
 }
 
 /// The calibration kernels' geometry: one triangle over the viewport or a grid of small ones

@@ -171,7 +171,7 @@ fn stage_name(stages: vk::ShaderStageFlags) -> String {
 
 /// The ocean's shading paths as pipelines of their own: each cost variant's fragment shader
 /// (`render::shaders::cost`) with the ocean's vertex shader, label, in the ocean's pass.
-pub const WATER_PATHS: [(&str, &str); 8] = [
+pub const WATER_PATHS: [(&str, &str); 9] = [
     ("sky", "water path: sky"),
     ("single", "water path: single"),
     ("supersampled", "water path: supersampled"),
@@ -183,6 +183,7 @@ pub const WATER_PATHS: [(&str, &str); 8] = [
     ("plain", "water path: plain"),
     ("detail", "water path: single with detail"),
     ("union", "water path: every branch"),
+    ("knee", "water path: single through the tone curve's knee"),
 ];
 
 /// Builds, on `ctx` (which captures statistics), every pipeline a headset draws in `pass` (the
@@ -216,6 +217,7 @@ pub fn headset_pipelines(
         cost::PLAIN,
         cost::DETAIL,
         cost::UNION,
+        cost::KNEE,
     ];
     let mut made = Vec::new();
     let mut result = Ok(());

@@ -77,6 +77,7 @@ pub fn adreno_estimate(
     );
     let (foam, plain, detail, vertex) =
         (get("foam")?, get("plain")?, get("detail")?, get("vertex")?);
+    let knee = get("knee")?;
     let n = |x: u64| x as f64;
     // (fragments, slots, texture instructions): whole paths, then what the extras add.
     let extra = |a: ShaderStats, b: ShaderStats, f: fn(ShaderStats) -> f64| (f(a) - f(b)).max(0.0);
@@ -101,6 +102,12 @@ pub fn adreno_estimate(
             n(counts.detail),
             extra(detail, single, slots),
             extra(detail, single, texture),
+        ),
+        // The tone curve's knee, where the light reaches it (the paths leave it out).
+        (
+            n(counts.knee),
+            extra(knee, single, slots),
+            extra(knee, single, texture),
         ),
     ];
     let gpu = &headset.gpu;

@@ -257,6 +257,10 @@ pub struct PathCounts {
     /// the sky's, from 4096): recorded for other models of small triangles' waste.
     #[serde(default)]
     pub by_thickness: [u64; PathCounts::AREA_BINS],
+    /// Fragments (sky and water) whose colour went through the tone curve's knee (the bright
+    /// ones: `tonemap` in `shaders/common.glsl`); the paths' costs leave the knee out.
+    #[serde(default)]
+    pub knee: u64,
     /// Triangles out of the clipper (pipeline statistics: those the rasterizer set up, the
     /// solids' included); 0 when unavailable.
     pub clipped_primitives: u64,
@@ -327,11 +331,14 @@ pub struct PathCosts {
     /// Every path at once (each branch taken): what a fragment costs a device that runs both
     /// sides of every branch.
     pub union: InstructionCounts,
+    /// What the tone curve's knee adds to a fragment whose colour reaches it.
+    #[serde(default)]
+    pub knee: InstructionCounts,
 }
 
 /// The cost variants' module names (`COST_SHADERS` in `shaders/shader_table.rs`), in the order
 /// [`PathCosts::of_modules`] takes them.
-pub const COST_MODULES: [&str; 9] = [
+pub const COST_MODULES: [&str; 10] = [
     "cost_sky.frag",
     "cost_single.frag",
     "cost_super0.frag",
@@ -341,6 +348,7 @@ pub const COST_MODULES: [&str; 9] = [
     "cost_ocean.vert",
     "cost_detail.frag",
     "cost_union.frag",
+    "cost_knee.frag",
 ];
 
 impl PathCosts {
@@ -356,12 +364,13 @@ impl PathCosts {
             cost::VERTEX,
             cost::DETAIL,
             cost::UNION,
+            cost::KNEE,
         ])
     }
 
     /// Counts cost variants given in [`COST_MODULES`] order (e.g. those of another version of
     /// the shaders, to compare).
-    pub fn of_modules(m: [&[u32]; 9]) -> Result<Self, spirv::CountError> {
+    pub fn of_modules(m: [&[u32]; 10]) -> Result<Self, spirv::CountError> {
         let single = spirv::count(m[1])?;
         let supersampled = spirv::count(m[2])?;
         Ok(Self {
@@ -374,6 +383,7 @@ impl PathCosts {
             vertex: spirv::count(m[6])?,
             detail: spirv::count(m[7])?.minus(single),
             union: spirv::count(m[8])?,
+            knee: spirv::count(m[9])?.minus(single),
         })
     }
 }
@@ -448,6 +458,7 @@ pub fn estimate(
         (n(counts.foam), costs.foam),
         (n(counts.plain), costs.plain),
         (n(counts.detail), costs.detail),
+        (n(counts.knee), costs.knee),
     ];
     let kept = 1.0 - headset.foveation.saving();
     let alu: f64 = paths.iter().map(|(k, c)| k * slots(*c)).sum::<f64>() * kept;

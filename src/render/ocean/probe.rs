@@ -13,7 +13,7 @@ use crate::render::error::RenderError;
 use crate::render::memory::Buffer;
 
 /// Tallies the shader writes (`t_paths.tally` in `shaders/ocean.frag`, `COUNT_*` order).
-const TALLIES: usize = 8 + 2 * PathCounts::AREA_BINS + 3;
+const TALLIES: usize = 8 + 2 * PathCounts::AREA_BINS + 3 + 1;
 
 /// The counting pass's buffer and queries.
 pub(super) struct PathProbe {
@@ -159,6 +159,7 @@ impl PathProbe {
             by_thickness: std::array::from_fn(|b| {
                 per_frame(t[8 + PathCounts::AREA_BINS + 3 + b].into())
             }),
+            knee: per_frame(t[8 + 2 * PathCounts::AREA_BINS + 3].into()),
             vertex_invocations: per_frame(self.invocations[0]),
             clipped_primitives: per_frame(self.invocations[2]),
             fragment_invocations: per_frame(self.invocations[3]),

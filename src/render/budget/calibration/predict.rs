@@ -51,6 +51,7 @@ pub fn predict(rates: &DeviceRates, costs: &PathCosts, counts: &PathCounts) -> P
         (n(counts.foam), costs.foam),
         (n(counts.plain), costs.plain),
         (n(counts.detail), costs.detail),
+        (n(counts.knee), costs.knee),
     ];
     // Each fragment pays its own path's work, and on a device whose lanes run branches they
     // did not take (σ), the share σ of every path's (the union's).

@@ -224,6 +224,7 @@ fn a_cpu_adds_texture_and_alu_time_and_small_triangles_cost_more() {
         detail: cost(50, 2),
         vertex: cost(200, 3),
         union: cost(1500, 30),
+        knee: cost(40, 0),
     };
     let mut c = PathCounts {
         sky: 1000,
