@@ -184,8 +184,13 @@ fn cpu_model() -> String {
         .unwrap_or_else(|| std::env::consts::ARCH.to_string())
 }
 
+/// The timed tests take turns: one timed while the other renders on the same cores would time
+/// both.
+static TIMING: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 #[test]
 fn frame_times_on_lavapipe() {
+    let _turn = TIMING.lock().unwrap_or_else(|e| e.into_inner());
     // Geometry and stereo are compared without anti-aliasing (MSAA 1, no specular AA), so
     // those ratios do not depend on how a machine rasterizes samples; the last two add MSAA 4,
     // then specular AA (the defaults), for what anti-aliasing costs.
@@ -448,6 +453,7 @@ fn scratch_dir(what: &str) -> PathBuf {
 /// a GPU's texture unit (`tests/render_anisotropy.rs`).
 #[test]
 fn frame_times_on_lavapipe_headset_specular_aa_at_the_quest_2_eye_size() {
+    let _turn = TIMING.lock().unwrap_or_else(|e| e.into_inner());
     let path = scratch_dir("aa-cost-path");
     std::fs::write(&path, "0 0 1.7 0 0 0\n").unwrap();
     let path_arg = path.to_str().unwrap().to_string();
