@@ -56,12 +56,18 @@ fn mean(rgba: &[u8], w: u32, x: u32, y: u32, size: u32) -> [f32; 3] {
     sum.map(|s| s / (size * size) as f32)
 }
 
+/// The tests that open a window take turns: the sound's minute measures the app under its own
+/// load (lavapipe on both cores), not under a second window's beside it (which made a buffer
+/// finish late once in 6000 on a 2-core host).
+static WINDOWS: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// Issue 32: a minute of the window with its sound on. CI has no sound card, so the sound runs
 /// on its silent clock (10 ms buffers, the callback a device would call) while lavapipe
 /// renders on both cores: no buffer may finish late, and ALSA's complaints about the missing
 /// card are one warning of ours.
 #[test]
 fn the_window_sounds_for_a_minute_without_underruns() {
+    let _turn = WINDOWS.lock().unwrap_or_else(|e| e.into_inner());
     if !common::has_xvfb_run() {
         eprintln!("skipped: xvfb-run is not installed (apt install xvfb; `cargo xtask test` does)");
         return;
@@ -96,6 +102,7 @@ fn the_window_sounds_for_a_minute_without_underruns() {
 
 #[test]
 fn window_under_xvfb_shows_both_eyes_without_validation_errors() {
+    let _turn = WINDOWS.lock().unwrap_or_else(|e| e.into_inner());
     if !common::has_xvfb_run() {
         eprintln!("skipped: xvfb-run is not installed (apt install xvfb; `cargo xtask test` does)");
         return;
@@ -184,6 +191,7 @@ fn window_under_xvfb_shows_both_eyes_without_validation_errors() {
 /// `docs/panel/window.png` in the README when made at 1000x600.
 #[test]
 fn window_shows_the_control_panel_over_the_view() {
+    let _turn = WINDOWS.lock().unwrap_or_else(|e| e.into_inner());
     if !common::has_xvfb_run() {
         eprintln!("skipped: xvfb-run is not installed (apt install xvfb; `cargo xtask test` does)");
         return;
@@ -275,6 +283,7 @@ impl FrameLoop for Tweaking {
 
 #[test]
 fn live_tweaks_change_waves_refuse_bad_values_and_switch_presets() {
+    let _turn = WINDOWS.lock().unwrap_or_else(|e| e.into_inner());
     let inner = HeadlessXr::new(
         &gpu::validated(),
         EyeSize::new(64, 64).unwrap(),
