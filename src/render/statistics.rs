@@ -169,22 +169,52 @@ fn stage_name(stages: vk::ShaderStageFlags) -> String {
     }
 }
 
+/// One of the ocean's shading paths as a pipeline of its own.
+#[derive(Clone, Copy, Debug)]
+pub struct WaterPath {
+    /// Its name in `gpu-budget`'s `adreno_paths`.
+    pub name: &'static str,
+    /// Its pipeline's label.
+    pub label: &'static str,
+    /// Its cost variant's fragment shader (`render::shaders::cost`).
+    pub module: &'static [u32],
+}
+
 /// The ocean's shading paths as pipelines of their own: each cost variant's fragment shader
-/// (`render::shaders::cost`) with the ocean's vertex shader, label, in the ocean's pass.
-pub const WATER_PATHS: [(&str, &str); 9] = [
-    ("sky", "water path: sky"),
-    ("single", "water path: single"),
-    ("supersampled", "water path: supersampled"),
-    (
-        "supersampled_resampled",
-        "water path: supersampled, the finest cascade again",
-    ),
-    ("foam", "water path: single with foam"),
-    ("plain", "water path: plain"),
-    ("detail", "water path: single with detail"),
-    ("union", "water path: every branch"),
-    ("knee", "water path: single through the tone curve's knee"),
-];
+/// with the ocean's vertex shader, in the ocean's pass.
+pub const WATER_PATHS: [WaterPath; 9] = {
+    use super::shaders::cost;
+    const fn path(name: &'static str, label: &'static str, module: &'static [u32]) -> WaterPath {
+        WaterPath {
+            name,
+            label,
+            module,
+        }
+    }
+    [
+        path("sky", "water path: sky", cost::SKY),
+        path("single", "water path: single", cost::SINGLE),
+        path(
+            "supersampled",
+            "water path: supersampled",
+            cost::SUPERSAMPLED,
+        ),
+        path(
+            "supersampled_resampled",
+            "water path: supersampled, the finest cascade again",
+            cost::SUPERSAMPLED_RESAMPLE,
+        ),
+        path("foam", "water path: single with foam", cost::FOAM),
+        path("plain", "water path: plain", cost::PLAIN),
+        path("detail", "water path: single with detail", cost::DETAIL),
+        path("union", "water path: every branch", cost::UNION),
+        path(
+            "knee",
+            "water path: single through the tone curve's knee",
+            cost::KNEE,
+        ),
+    ]
+};
 
 /// Builds, on `ctx` (which captures statistics), every pipeline a headset draws in `pass` (the
 /// ocean, its solids, the control panel) and each water path as a pipeline of its own
@@ -194,7 +224,6 @@ pub fn headset_pipelines(
     pass: super::render_pass::PassLayout,
 ) -> Result<Vec<PipelineStatistics>, RenderError> {
     use super::pipeline::{build, ocean_program, Pipelines, Target};
-    use super::shaders::cost;
     let Some(log) = ctx.pipeline_statistics.as_ref() else {
         return Err(RenderError::Unsupported(format!(
             "compiler statistics (VK_KHR_pipeline_executable_properties) on {}",
@@ -208,21 +237,14 @@ pub fn headset_pipelines(
         render_pass: pipelines.render_pass,
         msaa: pass.msaa,
     };
-    let modules = [
-        cost::SKY,
-        cost::SINGLE,
-        cost::SUPERSAMPLED,
-        cost::SUPERSAMPLED_RESAMPLE,
-        cost::FOAM,
-        cost::PLAIN,
-        cost::DETAIL,
-        cost::UNION,
-        cost::KNEE,
-    ];
     let mut made = Vec::new();
     let mut result = Ok(());
-    for ((_, label), frag) in WATER_PATHS.iter().zip(modules) {
-        match build(ctx, &ocean_program(label, multiview, frag), target) {
+    for path in &WATER_PATHS {
+        match build(
+            ctx,
+            &ocean_program(path.label, multiview, path.module),
+            target,
+        ) {
             Ok(p) => made.push(p),
             Err(e) => {
                 result = Err(e);

@@ -103,10 +103,10 @@ pub fn water_paths(pipelines: &[PipelineStatistics]) -> Result<Vec<AdrenoPath>, 
         })
     };
     let mut out = Vec::new();
-    for (path, label) in WATER_PATHS {
+    for path in WATER_PATHS {
         out.push(AdrenoPath {
-            path: path.to_string(),
-            stats: stage(label, "fragment")?,
+            path: path.name.to_string(),
+            stats: stage(path.label, "fragment")?,
         });
     }
     // The pipeline the headset draws: foveated where its pass has a density map.
@@ -172,8 +172,8 @@ mod tests {
         );
         let mut pipelines: Vec<PipelineStatistics> = WATER_PATHS
             .iter()
-            .map(|(_, label)| PipelineStatistics {
-                label: label.to_string(),
+            .map(|path| PipelineStatistics {
+                label: path.label.to_string(),
                 executables: vec![turnip_exe("vertex", 500), turnip_exe("fragment", 1000)],
             })
             .collect();

@@ -81,6 +81,14 @@ pub fn adreno_estimate(
     let n = |x: u64| x as f64;
     // (fragments, slots, texture instructions): whole paths, then what the extras add.
     let extra = |a: ShaderStats, b: ShaderStats, f: fn(ShaderStats) -> f64| (f(a) - f(b)).max(0.0);
+    // `count` fragments paying what `with` adds to `base`.
+    let adds = |count: u64, with: ShaderStats, base: ShaderStats| {
+        (
+            n(count),
+            extra(with, base, slots),
+            extra(with, base, texture),
+        )
+    };
     let work = [
         (n(counts.sky), slots(sky), texture(sky)),
         (n(counts.single), slots(single), texture(single)),
@@ -88,27 +96,11 @@ pub fn adreno_estimate(
         (n(counts.plain), slots(plain), texture(plain)),
         // Each cascade sampled again: a third of what the finest one's costs (three are
         // counted per supersampled fragment when every cascade is).
-        (
-            n(counts.resamples),
-            extra(ss1, ss0, slots),
-            extra(ss1, ss0, texture),
-        ),
-        (
-            n(counts.foam),
-            extra(foam, single, slots),
-            extra(foam, single, texture),
-        ),
-        (
-            n(counts.detail),
-            extra(detail, single, slots),
-            extra(detail, single, texture),
-        ),
+        adds(counts.resamples, ss1, ss0),
+        adds(counts.foam, foam, single),
+        adds(counts.detail, detail, single),
         // The tone curve's knee, where the light reaches it (the paths leave it out).
-        (
-            n(counts.knee),
-            extra(knee, single, slots),
-            extra(knee, single, texture),
-        ),
+        adds(counts.knee, knee, single),
     ];
     let gpu = &headset.gpu;
     let kept = 1.0 - headset.foveation.saving();
@@ -146,7 +138,7 @@ mod tests {
     fn paths(instructions: u32) -> Vec<AdrenoPath> {
         WATER_PATHS
             .iter()
-            .map(|(p, _)| *p)
+            .map(|p| p.name)
             .chain(["pipeline", "vertex"])
             .map(|p| AdrenoPath {
                 path: p.into(),
