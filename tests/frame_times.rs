@@ -421,15 +421,11 @@ const HEADSET_SPECULAR_AA_COST: f64 = 1.25;
 
 /// The p50 of the GPU pass (ms) of `vr-ocean headless` with `args`, from its timing table.
 fn headless_gpu_pass(args: &[&str]) -> f64 {
-    let out = scratch_dir("aa-cost");
-    let run = std::process::Command::new(env!("CARGO_BIN_EXE_vr-ocean"))
-        .arg("headless")
-        .args(args)
-        .arg("--out")
-        .arg(&out)
-        .env("RUST_BACKTRACE", "0")
-        .output()
-        .expect("the binary runs");
+    let out = common::scratch_path("aa-cost");
+    let mut all = vec!["headless"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["--out", out.to_str().unwrap()]);
+    let run = common::vr_ocean(&all);
     let _ = std::fs::remove_dir_all(&out);
     let text =
         String::from_utf8_lossy(&run.stdout).into_owned() + &String::from_utf8_lossy(&run.stderr);
@@ -438,11 +434,6 @@ fn headless_gpu_pass(args: &[&str]) -> f64 {
         .find_map(|l| l.strip_prefix("gpu_pass"))
         .and_then(|l| l.split_whitespace().next()?.parse().ok())
         .unwrap_or_else(|| panic!("no gpu_pass line in: {text}"))
-}
-
-/// A fresh scratch folder under the system's temporary one.
-fn scratch_dir(what: &str) -> PathBuf {
-    std::env::temp_dir().join(format!("vr-ocean-{what}-{}", std::process::id()))
 }
 
 /// On lavapipe at the Quest 2 eye size (1440x1584, MSAA 4, standing at 1.7 m facing the
@@ -454,7 +445,7 @@ fn scratch_dir(what: &str) -> PathBuf {
 #[test]
 fn frame_times_on_lavapipe_headset_specular_aa_at_the_quest_2_eye_size() {
     let _turn = TIMING.lock().unwrap_or_else(|e| e.into_inner());
-    let path = scratch_dir("aa-cost-path");
+    let path = common::scratch_path("aa-cost-path");
     std::fs::write(&path, "0 0 1.7 0 0 0\n").unwrap();
     let path_arg = path.to_str().unwrap().to_string();
     let run = |aa: &str| {
