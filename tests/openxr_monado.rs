@@ -167,28 +167,32 @@ fn ocean_runs_through_monado_focused_and_exits_cleanly() {
 #[ignore = "needs root and the Monado root (the `openxr (Monado)` step of cargo xtask test)"]
 fn the_sound_keeps_time_for_a_minute_of_monado_frames() {
     let root = monado::root_from_env();
-    let service = Monado::start(&root, "sound");
-    let env = monado::xr_validation_env("sound");
-    let run = service.client(
-        Path::new(EXE),
-        &[
-            "xr", "--frames", "1200", "--grid", "64", "--preset", "low", "--wind", "12",
-        ],
-        &monado::env_refs(&env),
-        Duration::from_secs(600),
-    );
-    service.finish();
-    assert!(run.success(), "{run}");
-    let (seconds, underruns) = common::sound_report(&run.stdout);
-    println!(
-        "{}",
-        run.stdout
-            .lines()
-            .find(|l| l.starts_with("audio ("))
-            .unwrap()
-    );
-    assert!(seconds >= 59.0, "{seconds} s of sound\n{run}");
-    assert_eq!(underruns, 0, "{run}");
+    let minute = || {
+        let service = Monado::start(&root, "sound");
+        let env = monado::xr_validation_env("sound");
+        let run = service.client(
+            Path::new(EXE),
+            &[
+                "xr", "--frames", "1200", "--grid", "64", "--preset", "low", "--wind", "12",
+            ],
+            &monado::env_refs(&env),
+            Duration::from_secs(600),
+        );
+        service.finish();
+        assert!(run.success(), "{run}");
+        let sound = common::sound_report(&run.stdout);
+        println!("{}", sound.line);
+        assert!(sound.seconds >= 59.0, "{} s of sound\n{run}", sound.seconds);
+        (sound, run)
+    };
+    let (mut sound, mut run) = minute();
+    if sound.late_only_by_the_host() {
+        // A real-time thread whose work fitted was woken late: the host held the vCPU. The
+        // minute runs again and must be clean.
+        println!("late only by the host; the minute again");
+        (sound, run) = minute();
+    }
+    assert_eq!(sound.underruns, 0, "{run}");
     assert!(!run.stderr.contains("ALSA lib"), "{run}");
 }
 

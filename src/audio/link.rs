@@ -31,6 +31,58 @@ pub struct Counters {
     pub worst_ns: AtomicU64,
     /// Splashes dropped because the ring was full.
     pub dropped: AtomicU64,
+    /// Late buffers the clock saw whose rendering took under half a period: the thread
+    /// was woken too late (held off its core), not slowed by its work.
+    pub late_wakes: AtomicU64,
+    /// The scheduling the audio thread obtained ([`Scheduling`] as a number, 0 before the
+    /// first callback).
+    pub scheduling: AtomicU8,
+}
+
+/// The scheduling the audio thread asked for and got (see `player::promote_this_thread`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Scheduling {
+    /// Not known yet (no callback has run).
+    #[default]
+    Unknown,
+    /// Real-time (SCHED_FIFO): nothing of the app's own can hold it off a core.
+    RealTime,
+    /// A raised nice value: favoured, but it can wait behind other threads.
+    Raised,
+    /// As the platform started it (on Android AAudio's thread, real-time already).
+    Platform,
+}
+
+impl Scheduling {
+    fn from_u8(v: u8) -> Self {
+        match v {
+            1 => Self::RealTime,
+            2 => Self::Raised,
+            3 => Self::Platform,
+            _ => Self::Unknown,
+        }
+    }
+
+    /// The number [`Counters::scheduling`] holds.
+    pub fn as_u8(self) -> u8 {
+        match self {
+            Self::Unknown => 0,
+            Self::RealTime => 1,
+            Self::Raised => 2,
+            Self::Platform => 3,
+        }
+    }
+}
+
+impl std::fmt::Display for Scheduling {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Unknown => "unknown",
+            Self::RealTime => "real-time",
+            Self::Raised => "raised priority",
+            Self::Platform => "platform's",
+        })
+    }
 }
 
 /// A snapshot of [`Counters`].
@@ -48,6 +100,10 @@ pub struct CountersSnapshot {
     pub worst_ns: u64,
     /// Splashes dropped.
     pub dropped: u64,
+    /// Late buffers whose thread woke too late (the clock only).
+    pub late_wakes: u64,
+    /// The audio thread's scheduling.
+    pub scheduling: Scheduling,
 }
 
 impl Counters {
@@ -60,6 +116,8 @@ impl Counters {
             busy_ns: self.busy_ns.load(Ordering::Relaxed),
             worst_ns: self.worst_ns.load(Ordering::Relaxed),
             dropped: self.dropped.load(Ordering::Relaxed),
+            late_wakes: self.late_wakes.load(Ordering::Relaxed),
+            scheduling: Scheduling::from_u8(self.scheduling.load(Ordering::Relaxed)),
         }
     }
 }

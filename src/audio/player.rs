@@ -6,7 +6,7 @@ use std::sync::atomic::Ordering;
 use std::time::Instant;
 
 use super::engine::Soundscape;
-use super::link::FrameReceiver;
+use super::link::{FrameReceiver, Scheduling};
 
 /// Frames converted at a time for devices that take integer samples.
 pub const SCRATCH_FRAMES: usize = 1024;
@@ -38,7 +38,11 @@ impl Player {
             // Once, on the audio thread itself (cpal's or the clock's): a buffer must not wait
             // behind the renderer's threads for a core.
             self.promoted = true;
-            promote_this_thread();
+            let got = promote_this_thread();
+            self.link
+                .counters()
+                .scheduling
+                .store(got.as_u8(), Ordering::Relaxed);
         }
         let start = Instant::now();
         let frame = *self.link.latest();
@@ -87,20 +91,27 @@ impl Player {
 
 /// Asks the scheduler to run the calling thread as a real-time one (SCHED_FIFO, priority 10,
 /// as audio servers do), or failing that at nice −10; without the privilege it stays as it
-/// is. Linux only: AAudio's callback thread on the Quest is real-time already. Nothing is
-/// logged: this runs on the audio thread.
+/// is. Linux only (not Android): AAudio's callback thread on the Quest is real-time already. Nothing
+/// is logged (this runs on the audio thread); what it got goes to the report.
 #[cfg(target_os = "linux")]
-pub fn promote_this_thread() {
+pub fn promote_this_thread() -> Scheduling {
     let param = libc::sched_param { sched_priority: 10 };
     // SAFETY: `param` is a valid sched_param for this call; pid 0 is the calling thread, whose
     // scheduling policy is all that changes.
-    if unsafe { libc::sched_setscheduler(0, libc::SCHED_FIFO, &param) } != 0 {
-        // SAFETY: on Linux PRIO_PROCESS with who = 0 names the calling thread; only its nice
-        // value changes (a refusal leaves it as it is).
-        unsafe { libc::setpriority(libc::PRIO_PROCESS, 0, -10) };
+    if unsafe { libc::sched_setscheduler(0, libc::SCHED_FIFO, &param) } == 0 {
+        return Scheduling::RealTime;
+    }
+    // SAFETY: on Linux PRIO_PROCESS with who = 0 names the calling thread; only its nice
+    // value changes (a refusal leaves it as it is).
+    if unsafe { libc::setpriority(libc::PRIO_PROCESS, 0, -10) } == 0 {
+        Scheduling::Raised
+    } else {
+        Scheduling::Platform
     }
 }
 
 /// Elsewhere the platform's audio thread keeps its own priority.
 #[cfg(not(target_os = "linux"))]
-pub fn promote_this_thread() {}
+pub fn promote_this_thread() -> Scheduling {
+    Scheduling::Platform
+}

@@ -97,26 +97,56 @@ pub fn assert_rejected(args: &[&str], names: &[&str]) {
     }
 }
 
-/// The sound's report line of a run (`audio (SINK): S s of sound, B buffers of F frames, U
-/// under-runs, ...`): seconds of sound and under-runs.
+/// What the sound's report line of a run says (`audio (SINK): S s of sound, B buffers of F
+/// frames, U under-runs (W late wakes), ..., SCHED scheduling`).
 #[allow(dead_code)]
-pub fn sound_report(stdout: &str) -> (f64, u64) {
+pub struct SoundLine {
+    /// Seconds of sound.
+    pub seconds: f64,
+    /// Buffers finished late.
+    pub underruns: u64,
+    /// Of those, the ones whose rendering fitted: the thread woke too late.
+    pub late_wakes: u64,
+    /// Whether the audio thread ran real-time (SCHED_FIFO).
+    pub real_time: bool,
+    /// The line itself.
+    pub line: String,
+}
+
+#[allow(dead_code)]
+impl SoundLine {
+    /// Whether every late buffer was a real-time thread woken late: the app cannot hold a
+    /// SCHED_FIFO thread off its core (it has no real-time thread of its own) and the
+    /// rendering fitted, so only the host (a vCPU the hypervisor held) made them late.
+    pub fn late_only_by_the_host(&self) -> bool {
+        self.underruns > 0 && self.underruns == self.late_wakes && self.real_time
+    }
+}
+
+/// The sound's report line of a run.
+#[allow(dead_code)]
+pub fn sound_report(stdout: &str) -> SoundLine {
     let line = stdout
         .lines()
         .find(|l| l.starts_with("audio ("))
         .unwrap_or_else(|| panic!("no audio report line:\n{stdout}"));
     let number_before = |tail: &str| -> f64 {
-        let head = line.split(tail).next().unwrap();
-        head.rsplit([' ', ',', ':'])
+        let head = line
+            .split(tail)
+            .next()
+            .unwrap_or_else(|| panic!("no {tail:?} in {line:?}"));
+        head.rsplit([' ', ',', ':', '('])
             .find(|w| !w.is_empty())
-            .unwrap()
-            .parse()
-            .unwrap()
+            .and_then(|w| w.parse().ok())
+            .unwrap_or_else(|| panic!("no number before {tail:?} in {line:?}"))
     };
-    (
-        number_before(" s of sound"),
-        number_before(" under-runs") as u64,
-    )
+    SoundLine {
+        seconds: number_before(" s of sound"),
+        underruns: number_before(" under-runs") as u64,
+        late_wakes: number_before(" late wakes") as u64,
+        real_time: line.ends_with("real-time scheduling"),
+        line: line.to_string(),
+    }
 }
 
 /// Whether `xvfb-run` is installed (the window tests skip without it).
