@@ -64,6 +64,8 @@ layout(set = 0, binding = 0, std140) uniform Globals {
     // x: the most taps the normal maps' anisotropic sampler takes now (1: the trilinear
     // sampler is read; `render::ocean::anisotropy`).
     vec4 filtering;
+    // rgb: the sun's disc as the display shows it (its radiance exposed and tone-mapped).
+    vec4 sun_display;
 } g;
 
 // The interaction layer (`render::ocean::interaction`): h (m), ∂h/∂x, ∂h/∂z, foam; clamped,
@@ -102,17 +104,29 @@ mediump vec3 sky_env(vec3 d, float rough) {
     return textureLod(u_sky, vec3(sky_uv(d), 0.0), level).rgb;
 }
 
-// The sun's disc seen along unit `d` (kcd/m²), its edge a hundredth of its radius wide.
-vec3 sun_disc(vec3 d) {
+// How much of a pixel along unit `d` the sun's disc covers, its edge a hundredth of its radius
+// wide.
+float sun_coverage(vec3 d) {
     float c = dot(d, g.sun.xyz);
     float edge = 0.01 * (1.0 - g.sun_radiance.w);
-    return g.sun_radiance.rgb * smoothstep(g.sun_radiance.w - edge, g.sun_radiance.w + edge, c);
+    return smoothstep(g.sun_radiance.w - edge, g.sun_radiance.w + edge, c);
 }
 
-// Radiance of the sky along unit `d`, with the sun's disc (kcd/m²).
-vec3 sky(vec3 d) {
-    return sky_env(d, 0.0) + sun_disc(d);
+// The sun's disc seen along unit `d` (kcd/m²).
+vec3 sun_disc(vec3 d) {
+    return g.sun_radiance.rgb * sun_coverage(d);
 }
+
+// The sky along unit `d` as the display shows it (what `display` gives of the map's level 0 and the sun's disc, or the fog's
+// horizon below it): the map's second layer, baked exposed and through the tone curve, with
+// the sun's disc (tone-mapped once on the CPU) over it by its coverage. The sun's disc is tens
+// of thousands of times the sky's radiance, so where it covers a pixel at all the curve gives
+// the disc's own colour.
+mediump vec3 sky_display(vec3 d) {
+    mediump vec3 shown = textureLod(u_sky, vec3(sky_uv(d), 1.0), 0.0).rgb;
+    return d.y >= 0.0 ? mix(shown, g.sun_display.rgb, sun_coverage(d)) : shown;
+}
+
 
 // The radiance distant things fade to along `d`: the sky at the horizon at the same azimuth,
 // so the ocean meets the sky without a seam (the map's horizon row: `sky_uv` needs no unit

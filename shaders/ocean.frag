@@ -174,6 +174,7 @@ layout(location = 3) flat in uint v_sky;
 // The mesh's cell (m), read by the counting variant only (declared by all, so that the vertex
 // shader's output always has a reader).
 layout(location = 4) flat in float v_cell;
+layout(location = 5) in mediump vec3 v_fog;
 layout(location = 0) out vec4 o_colour;
 
 // Smallest highlight roughness (`render::ocean::pass::MIN_ROUGHNESS`).
@@ -713,7 +714,6 @@ void main() {
     if (TAKES_SKY(v_sky != 0u)) {
         COUNT(COUNT_SKY, 1u);
         vec3 d = normalize(v_world);
-        vec3 c = d.y >= 0.0 ? sky(d) : fog_colour(d);
 #ifndef COST_PATH
         // The tests' paints (never in a user's run, so not in the cost variants: a uniform
         // branch no wave takes).
@@ -725,7 +725,7 @@ void main() {
         } else
 #endif
         {
-            o_colour = vec4(display(c), 1.0);
+            o_colour = vec4(sky_display(d), 1.0);
         }
         SKY_DONE
     }
@@ -747,7 +747,9 @@ void main() {
     mediump vec4 layer = interaction_at(v_xz);
     p.layer_slope = -layer.yz;
     // The finest cascade's level of detail (unclamped: the sub-samples' levels and the
-    // detail's derive from it).
+    // detail's derive from it), as the sampler finds it: log2 of the longer of the footprint's
+    // axes in texels (Vulkan's ρ_max), from the derivatives taken above rather than by a query
+    // of the texture unit.
     vec2 finest_uv = v_xz * g.inv_patch_size[cascades - 1] + half_texel;
     float lod = textureQueryLod(u_normal_foam, finest_uv).y;
     // Detail where its tile's mips still show some of it; the lobe keeps only what they do not.
@@ -777,8 +779,11 @@ void main() {
         }
     }
     Water w = water_of(p, cascades);
-    mediump vec3 dndx = dFdx(w.n);
-    mediump vec3 dndy = dFdy(w.n);
+    // The normal's change across the pixel, in its horizontal components: the vertical one is
+    // second order in the slope (|n| = 1: dn_y = −(n_x dn_x + n_z dn_z) / n_y), two
+    // derivatives fewer for the texture unit (the sunset gallery view: within 3 codes of 255).
+    mediump vec2 dnx = dFdx(w.n.xz);
+    mediump vec2 dny = dFdy(w.n.xz);
 
     // Foam coverage: the whole surface's whitecaps, or each cascade's own foam (eq. 51) when
     // whitecaps are off. Where there is none, the pattern and the bubbles are not looked at
@@ -811,7 +816,7 @@ void main() {
         Lobe l = lobe_of(sample_a2(w.smoothness, -1.0, f.coverage, tail));
         SET_COLOUR(surface_light(w.n, body, sv, l));
     } OTHERWISE {
-        mediump float change = dot(dndx, dndx) + dot(dndy, dndy);
+        mediump float change = dot(dnx, dnx) + dot(dny, dny);
         mediump float kernel = min(2.0 * PIXEL_VARIANCE * change, MAX_KERNEL_ALPHA2);
         if (TAKES_SUPERSAMPLING(lod > SUPERSAMPLE_FROM_LOD && FULL_DENSITY && g.filtering.y > 0.5)) {
             // Each sub-sample filters a third of the pixel's extent (mips log2(3) levels
@@ -848,11 +853,8 @@ void main() {
     }
     colour = with_foam(colour, f);
 
-    // Fog to the sky at the horizon, looked up only where it shows (more than a fifth of a
-    // percent: under half a code of the 8-bit image; the near water of most views has none).
+    // Fog to the sky at the horizon, its colour looked up by the vertices.
     mediump float fog = 1.0 - exp(-dist * g.params.z);
-    if (fog > 0.002) {
-        colour = mix(colour, fog_colour(-v), fog);
-    }
+    colour = mix(colour, v_fog, fog);
     SET_OUTPUT(vec4(display(colour), 1.0));
 }

@@ -51,6 +51,9 @@ layout(location = 3) flat out uint v_sky;
 // The mesh's cell (m) at this vertex's rest position: the counting pass sizes its triangles on
 // the screen with it (`render::budget`; 0 for the sky).
 layout(location = 4) flat out float v_cell;
+// The fog's colour toward this vertex (`fog_colour`, the sky's horizon at its azimuth): looked
+// up once a vertex, not once a fragment (it changes only with azimuth, slowly).
+layout(location = 5) out mediump vec3 v_fog;
 
 // Depth of the sky (reversed Z, depth = near / distance): 500 km away, behind the farthest
 // skirt vertex (10 S <= 82 km), in front of the cleared far plane so the GREATER test passes.
@@ -103,6 +106,7 @@ void main() {
         v_xz = ndc;
         v_sky = 1u;
         v_cell = 0.0;
+        v_fog = vec3(0.0);
         gl_Position = vec4(ndc, SKY_DEPTH, 1.0);
     } else {
         v_sky = 0u;
@@ -161,5 +165,6 @@ vec4 ocean_vertex(uint eye) {
     vec3 world = vec3(p.x, 0.0, p.y) + disp;
     v_world = world;
     v_xz = p;
+    v_fog = fog_colour(world - g.eye_pos[eye].xyz);
     return g.view_proj[eye] * vec4(world, 1.0);
 }

@@ -127,18 +127,22 @@ pub fn gpu_budget_cmd(a: GpuBudgetArgs) -> CmdResult {
     if !(a.scale.is_finite() && (0.05..=1.0).contains(&a.scale)) {
         return Err(format!("--scale {}: must be in [0.05, 1]", a.scale).into());
     }
-    let views: Vec<&StandardView> = if a.views.is_empty() {
+    // The calibration times the standard views; the budget prices the highest eye as well.
+    let all: Vec<&StandardView> = if a.calibrate {
         budget::VIEWS.iter().collect()
+    } else {
+        budget::budget_views().to_vec()
+    };
+    let views: Vec<&StandardView> = if a.views.is_empty() {
+        all
     } else {
         a.views
             .iter()
             .map(|name| {
-                budget::VIEWS
-                    .iter()
-                    .find(|v| v.name == name)
-                    .ok_or_else(|| {
-                        format!("--views: no view {name:?} (horizon, glitter, down, high)")
-                    })
+                all.iter().copied().find(|v| v.name == name).ok_or_else(|| {
+                    let names: Vec<&str> = all.iter().map(|v| v.name).collect();
+                    format!("--views: no view {name:?} ({})", names.join(", "))
+                })
             })
             .collect::<Result<_, _>>()?
     };

@@ -99,6 +99,10 @@ pub struct Globals {
     /// AA also supersamples the minified highlight
     /// ([`crate::render::ocean::RendererSettings::supersampling`]); z, w unused.
     pub filtering: [f32; 4],
+    /// The sun's disc as the display shows it (rgb: its radiance exposed and through the tone
+    /// curve, `ocean::sky_map::displayed`): the sky's pixels mix it over the map's display
+    /// layer by the disc's coverage.
+    pub sun_display: [f32; 4],
 }
 
 impl Globals {

@@ -127,12 +127,13 @@ impl Pipelines {
                 .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
                 .descriptor_count(1)
                 .stage_flags(vk::ShaderStageFlags::FRAGMENT),
-            // The sky's prefiltered environment map (`ocean::sky_map`).
+            // The sky's prefiltered environment map (`ocean::sky_map`): the fog's colour per
+            // vertex, the reflections per fragment.
             vk::DescriptorSetLayoutBinding::default()
                 .binding(4)
                 .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
                 .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::FRAGMENT),
+                .stage_flags(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT),
             // The tiling foam pattern (`ocean::foam_pattern`).
             vk::DescriptorSetLayoutBinding::default()
                 .binding(5)

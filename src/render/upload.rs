@@ -26,38 +26,63 @@ pub(crate) fn upload_levels(
     image: &Image,
     levels: &[Level<'_>],
 ) -> Result<(), RenderError> {
-    let total: usize = levels.iter().map(|l| l.bytes.len()).sum();
+    upload_layers(ctx, image, &[levels])
+}
+
+/// Copies each of `layers` (its levels, mip 0 first; every layer as many) into its array layer
+/// of `image` and leaves them all in SHADER_READ_ONLY_OPTIMAL. The staging buffer is freed
+/// whatever happens.
+pub(crate) fn upload_layers(
+    ctx: &GpuContext,
+    image: &Image,
+    layers: &[&[Level<'_>]],
+) -> Result<(), RenderError> {
+    let levels = layers.first().map_or(&[][..], |l| *l);
+    debug_assert!(layers.iter().all(|l| l.len() == levels.len()));
+    let total: usize = layers
+        .iter()
+        .flat_map(|l| l.iter())
+        .map(|l| l.bytes.len())
+        .sum();
     let mut staging = Buffer::new(ctx, total as u64, vk::BufferUsageFlags::TRANSFER_SRC, true)?;
-    let mut regions = Vec::with_capacity(levels.len());
+    let mut regions = Vec::with_capacity(layers.len() * levels.len());
     let bytes = staging.bytes_mut();
     let mut offset = 0usize;
-    for (m, level) in levels.iter().enumerate() {
-        bytes[offset..offset + level.bytes.len()].copy_from_slice(level.bytes);
-        regions.push(vk::BufferImageCopy {
-            buffer_offset: offset as u64,
-            buffer_row_length: 0,
-            buffer_image_height: 0,
-            image_subresource: vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                mip_level: m as u32,
-                base_array_layer: 0,
-                layer_count: 1,
-            },
-            image_offset: vk::Offset3D::default(),
-            image_extent: vk::Extent3D {
-                width: level.width,
-                height: level.height,
-                depth: 1,
-            },
-        });
-        offset += level.bytes.len();
+    for (layer, levels) in layers.iter().enumerate() {
+        for (m, level) in levels.iter().enumerate() {
+            bytes[offset..offset + level.bytes.len()].copy_from_slice(level.bytes);
+            regions.push(vk::BufferImageCopy {
+                buffer_offset: offset as u64,
+                buffer_row_length: 0,
+                buffer_image_height: 0,
+                image_subresource: vk::ImageSubresourceLayers {
+                    aspect_mask: vk::ImageAspectFlags::COLOR,
+                    mip_level: m as u32,
+                    base_array_layer: layer as u32,
+                    layer_count: 1,
+                },
+                image_offset: vk::Offset3D::default(),
+                image_extent: vk::Extent3D {
+                    width: level.width,
+                    height: level.height,
+                    depth: 1,
+                },
+            });
+            offset += level.bytes.len();
+        }
     }
     let mips = levels.len() as u32;
+    let layer_count = layers.len() as u32;
     let result = crate::render::one_shot(ctx, |cmd| {
         let d = &ctx.device;
-        let to_copy = ImageBarrier::colour(image.raw, 1, Access::Nothing, Access::TransferWrite)
-            .mips(mips)
-            .discard();
+        let to_copy = ImageBarrier::colour(
+            image.raw,
+            layer_count,
+            Access::Nothing,
+            Access::TransferWrite,
+        )
+        .mips(mips)
+        .discard();
         barrier::record(d, cmd, [to_copy], None);
         // SAFETY: `cmd` is recording; the image is in TRANSFER_DST_OPTIMAL after the barrier
         // and every region lies inside the staging buffer and its level.
@@ -70,9 +95,13 @@ pub(crate) fn upload_levels(
                 &regions,
             )
         };
-        let to_read =
-            ImageBarrier::colour(image.raw, 1, Access::TransferWrite, Access::ShaderSampled)
-                .mips(mips);
+        let to_read = ImageBarrier::colour(
+            image.raw,
+            layer_count,
+            Access::TransferWrite,
+            Access::ShaderSampled,
+        )
+        .mips(mips);
         barrier::record(d, cmd, [to_read], None);
     });
     staging.destroy(ctx);

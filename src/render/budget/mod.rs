@@ -194,8 +194,9 @@ pub struct StandardView {
     pub pitch: f32,
 }
 
-/// The views every headset is measured in: standing on the deck facing the horizon, into the
-/// sun's glitter, looking down at the water, and 25 m up.
+/// The views every headset is measured in and the calibration runs: standing on the deck
+/// facing the horizon, into the sun's glitter, looking down at the water, and 25 m up (a
+/// stress view: no eye the app allows is that high).
 pub const VIEWS: [StandardView; 4] = [
     StandardView {
         name: "horizon",
@@ -222,6 +223,24 @@ pub const VIEWS: [StandardView; 4] = [
         pitch: -15.0,
     },
 ];
+
+/// The highest eye the app allows: a standing eye (1.7 m) on the tallest deck
+/// (`app::floating::MAX_DECK_HEIGHT`, 8 m; `tests/gpu_budget.rs` holds the two in step), looking
+/// out as "high" does. The budget's gate takes it in place of the 25 m stress view (issue 43).
+pub const TOP_DECK: StandardView = StandardView {
+    name: "top-deck",
+    height: 9.7,
+    yaw: 0.0,
+    pitch: -15.0,
+};
+
+/// The views `vr-ocean gpu-budget` prices: [`VIEWS`] and [`TOP_DECK`].
+pub fn budget_views() -> [&'static StandardView; 5] {
+    [&VIEWS[0], &VIEWS[1], &VIEWS[2], &VIEWS[3], &TOP_DECK]
+}
+
+/// The stress view the gate leaves out: reported, not gated (no user's eye is that high).
+pub const STRESS_VIEW: &str = "high";
 
 /// What one frame of a view measured, both eyes together.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]

@@ -65,6 +65,9 @@ impl PassConstants {
             .to_array();
         g.sun_radiance = light.sun_radiance.extend(light.sun_cos_radius).to_array();
         g.sun_illuminance = light.sun_illuminance.extend(light.exposure).to_array();
+        g.sun_display = super::sky_map::displayed(light.sun_radiance, light.exposure)
+            .extend(1.0)
+            .to_array();
         g.sky_illuminance = light.sky_illuminance.extend(light.levels as f32).to_array();
         let horizontal =
             light.sun_illuminance * light.sun_direction.y.max(0.0) + light.sky_illuminance;

@@ -1,6 +1,9 @@
 //! The sky the pass draws, reflects and fogs with: the atmosphere and clouds
 //! ([`crate::render::sky`]) baked on the CPU into a GGX-prefiltered environment map (RGBA16F, one mip per roughness)
 //! and uploaded once, with the sun's and the sky's light and the exposure the shaders scale by.
+//! Its second layer is the same sky as the display shows it (exposed and through the tone
+//! curve, `render::tonemap`): the pixels that see the sky read it and are done, the curve not
+//! run per pixel.
 //! Made when the renderer is (and again when the sun moves): never per frame.
 
 use ash::vk;
@@ -11,7 +14,7 @@ use crate::render::error::RenderError;
 use crate::render::memory::{Image, ImageDesc};
 use crate::render::sampler::sampler_with;
 use crate::render::sky::{self, EnvMap, Sky, SunSky, SUN_ANGULAR_RADIUS_DEG};
-use crate::render::upload::{upload_levels, Level};
+use crate::render::upload::{upload_layers, Level};
 
 /// Level 0 of the environment map: texels along the azimuth (diamond-angle spaced: 2π/320 at
 /// the diagonals, π/320 at the axes; the sky seen directly reads level 0, and clouds' edges
@@ -76,7 +79,7 @@ impl SkyMap {
                     width: map.width,
                     height: map.height,
                 },
-                layers: 1,
+                layers: 2,
                 mips: levels,
                 samples: vk::SampleCountFlags::TYPE_1,
                 usage: vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
@@ -90,7 +93,7 @@ impl SkyMap {
             vk::SamplerAddressMode::CLAMP_TO_EDGE,
         ];
         self.sampler = sampler_with(ctx, levels as f32, address)?;
-        upload(ctx, map, &self.image)
+        upload(ctx, map, self.light.exposure, &self.image)
     }
 
     /// The descriptor of the map (binding 4).
@@ -136,20 +139,36 @@ fn light_of(sky: &Sky, levels: u32) -> SkyLight {
     }
 }
 
-/// Copies every level of `map` (as half floats) into `image`, ready for sampling.
-fn upload(ctx: &GpuContext, map: &EnvMap, image: &Image) -> Result<(), RenderError> {
-    let halves: Vec<Vec<u8>> = map
-        .levels
-        .iter()
-        .map(|level| {
-            let texels: Vec<[u16; 4]> = level
-                .iter()
-                .map(|t| t.map(|c| half::f16::from_f32(c).to_bits()))
-                .collect();
-            bytemuck::cast_slice(&texels).to_vec()
-        })
-        .collect();
-    let levels: Vec<Level<'_>> = halves
+/// Copies every level of `map` (as half floats) into layer 0 of `image` and the same exposed
+/// and tone-mapped (`display` in `shaders/common.glsl`) into layer 1, ready for sampling.
+fn upload(ctx: &GpuContext, map: &EnvMap, exposure: f32, image: &Image) -> Result<(), RenderError> {
+    let halves = |shown: fn(Vec3, f32) -> Vec3| -> Vec<Vec<u8>> {
+        map.levels
+            .iter()
+            .map(|level| {
+                let texels: Vec<[u16; 4]> = level
+                    .iter()
+                    .map(|t| {
+                        let c = shown(Vec3::new(t[0], t[1], t[2]), exposure);
+                        [c.x, c.y, c.z, t[3]].map(|c| half::f16::from_f32(c).to_bits())
+                    })
+                    .collect();
+                bytemuck::cast_slice(&texels).to_vec()
+            })
+            .collect()
+    };
+    let radiance = halves(|c, _| c);
+    let display = halves(displayed);
+    upload_layers(
+        ctx,
+        image,
+        &[&levels_of(map, &radiance), &levels_of(map, &display)],
+    )
+}
+
+/// The levels of one layer of `map`, their texels `bytes`.
+fn levels_of<'a>(map: &EnvMap, bytes: &'a [Vec<u8>]) -> Vec<Level<'a>> {
+    bytes
         .iter()
         .enumerate()
         .map(|(m, bytes)| {
@@ -160,6 +179,14 @@ fn upload(ctx: &GpuContext, map: &EnvMap, image: &Image) -> Result<(), RenderErr
                 height,
             }
         })
-        .collect();
-    upload_levels(ctx, image, &levels)
+        .collect()
+}
+
+/// Half precision's largest finite value, less a margin: what `display` in
+/// `shaders/common.glsl` holds the exposed radiance under.
+const HALF_MAX: f32 = 65000.0;
+
+/// What the display shows of radiance `c` (kcd/m²) at `exposure`: as the shaders' `display`.
+pub fn displayed(c: Vec3, exposure: f32) -> Vec3 {
+    crate::render::tonemap::pbr_neutral((c.max(Vec3::ZERO) * exposure).min(Vec3::splat(HALF_MAX)))
 }
