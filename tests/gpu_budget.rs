@@ -19,16 +19,16 @@ const GATE: f64 = budget::GATE_SHARE;
 
 /// The views whose Adreno estimate does not meet the goal yet (issue 43 is open on them), each
 /// with a ceiling: its latest estimate plus 5 points, so that it can only get better. Measured
-/// with `vr-ocean gpu-budget` once the headsets filtered the lobe instead of supersampling it
-/// and the tone curve's knee and the tests' paints left out of the paths (lavapipe's counts,
-/// ir3's statistics; Zen 5): Quest 2 86/83/74/112 %, Quest 3 70/66/45/98 % (horizon, glitter,
-/// down, high). Remove a line once its view meets the goal. (The SPIR-V model, gated where the Adreno
-/// statistics are not read, meets it everywhere.)
-const NOT_YET: [(&str, &str, f64); 4] = [
-    ("Quest 2", "horizon", 0.91),
-    ("Quest 2", "glitter", 0.88),
-    ("Quest 2", "high", 1.17),
-    ("Quest 3", "high", 1.03),
+/// with `vr-ocean gpu-budget` (lavapipe's counts, ir3's statistics; Zen 5) once the fog's colour
+/// came from the vertices, the normal's change from two derivatives and the sky from its
+/// display layer: Quest 2 76/74/69/92 %, Quest 3 64/60/40/79 % (horizon, glitter, down,
+/// top-deck; the 25 m stress view, not gated: 99 and 88 %). Remove a line once its view meets
+/// the goal. (The SPIR-V model, gated where the Adreno statistics are not read, meets it
+/// everywhere.)
+const NOT_YET: [(&str, &str, f64); 3] = [
+    ("Quest 2", "horizon", 0.81),
+    ("Quest 2", "top-deck", 0.97),
+    ("Quest 3", "top-deck", 0.84),
 ];
 
 #[test]
