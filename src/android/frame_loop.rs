@@ -81,7 +81,11 @@ impl FrameLoop for ActivityFrameLoop {
                 self.xr.request_exit();
             }
             match self.xr.poll_frame()? {
-                FramePoll::Frame(frame) => return Ok(Some(frame)),
+                FramePoll::Frame(mut frame) => {
+                    // Out of the foreground (`onPause`), the user is away too.
+                    frame.paused |= !self.activity.resumed();
+                    return Ok(Some(frame));
+                }
                 FramePoll::Done => return Ok(None),
                 // The next pump waits for activity events instead of sleeping.
                 FramePoll::Idle => {}

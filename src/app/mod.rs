@@ -2,6 +2,7 @@
 //! [`FrameLoop`]. The simulation step for the next frame runs on its own Rayon pool while this
 //! frame's LOD is updated and its commands are recorded and submitted.
 
+pub mod clock;
 pub mod floating;
 pub mod govern;
 pub mod live;
@@ -188,8 +189,10 @@ struct Frames<'a> {
     panel: Option<panel::PanelHost>,
     /// The user asked to quit (the panel): the session ends before the next frame.
     quit: bool,
-    /// Whether the first simulation step was started.
-    started: bool,
+    /// Whether a simulation step is in flight (started for the coming frame's world time).
+    in_flight: bool,
+    /// Display time to world time across the user's absences (`FrameState::paused`).
+    clock: clock::WorldClock,
     stats: RunStats,
 }
 
@@ -268,7 +271,8 @@ impl<'a> Frames<'a> {
             ears,
             panel,
             quit: false,
-            started: false,
+            in_flight: false,
+            clock: clock::WorldClock::default(),
             stats: RunStats {
                 times: FrameTimes::with_capacity(16_384),
                 max_draws: 0,
@@ -289,19 +293,30 @@ impl<'a> Frames<'a> {
         if self.quit {
             return Ok(false);
         }
-        let Some(frame) = self.xr.begin_frame()? else {
+        let Some(mut frame) = self.xr.begin_frame()? else {
             return Ok(false);
         };
+        // From here on the frame's time is the world's: it stands still while the user is away.
+        let display_time = frame.predicted_display_time;
+        frame.predicted_display_time = self.clock.world_time(display_time, frame.paused);
+        if let Some(ears) = self.ears.as_mut() {
+            ears.set_paused(frame.paused, self.clock.away(display_time));
+        }
         // Whitecaps follow the viewer (the eyes' midpoint).
         let viewer = (frame.views[0].position + frame.views[1].position) * 0.5;
         self.sim.set_focus(viewer.x, viewer.z);
-        if !self.started {
+        // The first frame has a sea even when it begins paused; after a pause the world goes
+        // on from the time it stopped at.
+        if !self.in_flight && (!frame.paused || self.stats.frames == 0) {
             self.sim.begin_step(frame.predicted_display_time);
-            self.started = true;
+            self.in_flight = true;
         }
-        // The step for this frame's display time was started a frame ago.
+        // The step for this frame's world time was started a frame ago.
         let wait = Instant::now();
-        self.sim.end_step();
+        if self.in_flight {
+            self.sim.end_step();
+            self.in_flight = false;
+        }
         let sim_wait = wait.elapsed();
         let sim_step = self.sim.last_step_time();
         // Live changes (window keys, controllers) apply from the step started next.
@@ -309,19 +324,23 @@ impl<'a> Frames<'a> {
         if !self.drive_panel(&frame)? && !self.xr.request_quit() {
             self.quit = true;
         }
-        // The bodies ride the surfaces shown this frame.
-        if let Some(afloat) = self.afloat.as_mut() {
-            let ticks = afloat.advance(&frame, self.sim.surfaces())?;
-            for (hand, _) in ticks.iter().enumerate().filter(|(_, &t)| t) {
-                self.xr.haptic_tick(hand);
+        // The bodies ride the surfaces shown this frame; away, they hold still (no step, no
+        // splash) and the sound is not fed.
+        if !frame.paused {
+            if let Some(afloat) = self.afloat.as_mut() {
+                let ticks = afloat.advance(&frame, self.sim.surfaces())?;
+                for (hand, _) in ticks.iter().enumerate().filter(|(_, &t)| t) {
+                    self.xr.haptic_tick(hand);
+                }
             }
+            if let Some(ears) = self.ears.as_mut() {
+                let waves = &self.sim.config().waves;
+                ears.hear(&frame, self.sim.surfaces(), waves, self.afloat.as_ref())?;
+            }
+            self.sim
+                .begin_step(frame.predicted_display_time + frame.period);
+            self.in_flight = true;
         }
-        if let Some(ears) = self.ears.as_mut() {
-            let waves = &self.sim.config().waves;
-            ears.hear(&frame, self.sim.surfaces(), waves, self.afloat.as_ref())?;
-        }
-        self.sim
-            .begin_step(frame.predicted_display_time + frame.period);
         let t_lod = Instant::now();
         self.update_lod(&frame)?;
         let cost = FrameCost {

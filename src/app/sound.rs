@@ -73,6 +73,9 @@ pub struct SoundReport {
     pub late_wakes: u64,
     /// The audio thread's scheduling.
     pub scheduling: Scheduling,
+    /// Seconds the sound was paused (the user away): the device's silence, or for a file the
+    /// world's stillness.
+    pub paused_s: f64,
 }
 
 impl std::fmt::Display for SoundReport {
@@ -80,7 +83,8 @@ impl std::fmt::Display for SoundReport {
         write!(
             f,
             "audio ({}): {:.1} s of sound, {} buffers of {} frames, {} under-runs ({} late \
-             wakes), {:.2} % of one core (longest callback {:.2} ms), {} scheduling",
+             wakes), {:.2} % of one core (longest callback {:.2} ms), {} scheduling, paused {:.1} \
+             s",
             self.sink,
             self.seconds,
             self.buffers,
@@ -89,7 +93,8 @@ impl std::fmt::Display for SoundReport {
             self.late_wakes,
             100.0 * self.load,
             self.worst_ms,
-            self.scheduling
+            self.scheduling,
+            self.paused_s
         )
     }
 }
@@ -106,6 +111,8 @@ pub(crate) struct Ears {
     splashes: Vec<Splash>,
     /// File output: time spent rendering (ns).
     render_ns: u64,
+    /// Display seconds the world stood still (the user away), as of the last frame.
+    away_s: f64,
 }
 
 impl Ears {
@@ -129,7 +136,18 @@ impl Ears {
             output,
             splashes: Vec::with_capacity(MAX_IMPACTS + 2),
             render_ns: 0,
+            away_s: 0.0,
         }))
+    }
+
+    /// Pauses or resumes the sound (the user away or back): a device's stream fades out to
+    /// silence; a file, which holds the world's sound, just hears no frame meanwhile.
+    /// `away_s`: the display seconds the world has stood still so far.
+    pub(crate) fn set_paused(&mut self, paused: bool, away_s: f64) {
+        self.away_s = away_s;
+        if let Output::Device(out) = &mut self.output {
+            out.sender().set_paused(paused);
+        }
     }
 
     /// Hears `frame`: the sea of `surfaces` (with the interaction layer of `afloat`), the
@@ -228,6 +246,7 @@ impl Ears {
                     worst_ms: c.worst_ns as f64 * 1e-6,
                     late_wakes: c.late_wakes,
                     scheduling: c.scheduling,
+                    paused_s: c.paused_frames as f64 / crate::audio::SAMPLE_RATE as f64,
                 }
             }
             Output::File(wav) => {
@@ -244,6 +263,7 @@ impl Ears {
                     worst_ms: 0.0,
                     late_wakes: 0,
                     scheduling: Scheduling::Unknown,
+                    paused_s: self.away_s,
                 }
             }
         })

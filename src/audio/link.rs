@@ -5,7 +5,7 @@
 //! or blocks.
 
 use std::cell::UnsafeCell;
-use std::sync::atomic::{AtomicU32, AtomicU64, AtomicU8, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, AtomicU8, AtomicUsize, Ordering};
 use std::sync::Arc;
 
 use super::scene::{SoundFrame, Splash};
@@ -37,6 +37,8 @@ pub struct Counters {
     /// The scheduling the audio thread obtained ([`Scheduling`] as a number, 0 before the
     /// first callback).
     pub scheduling: AtomicU8,
+    /// Frames the callback gave as silence because the app was paused (the user away).
+    pub paused_frames: AtomicU64,
 }
 
 /// The scheduling the audio thread asked for and got (see `player::promote_this_thread`).
@@ -104,6 +106,8 @@ pub struct CountersSnapshot {
     pub late_wakes: u64,
     /// The audio thread's scheduling.
     pub scheduling: Scheduling,
+    /// Frames given as silence while paused.
+    pub paused_frames: u64,
 }
 
 impl Counters {
@@ -118,6 +122,7 @@ impl Counters {
             dropped: self.dropped.load(Ordering::Relaxed),
             late_wakes: self.late_wakes.load(Ordering::Relaxed),
             scheduling: Scheduling::from_u8(self.scheduling.load(Ordering::Relaxed)),
+            paused_frames: self.paused_frames.load(Ordering::Relaxed),
         }
     }
 }
@@ -130,6 +135,8 @@ struct Shared {
     head: AtomicUsize,
     tail: AtomicUsize,
     volume: AtomicU32,
+    /// The app is paused (the user away): the callback fades out and gives silence.
+    paused: AtomicBool,
     counters: Arc<Counters>,
 }
 
@@ -169,6 +176,7 @@ pub fn link(volume: f32) -> (FrameSender, FrameReceiver) {
         head: AtomicUsize::new(0),
         tail: AtomicUsize::new(0),
         volume: AtomicU32::new(volume.to_bits()),
+        paused: AtomicBool::new(false),
         counters: Arc::new(Counters::default()),
     });
     (
@@ -214,6 +222,12 @@ impl FrameSender {
             .store(volume.clamp(0.0, 1.0).to_bits(), Ordering::Relaxed);
     }
 
+    /// Pauses the sound (the user away: faded out within a few milliseconds, then silence
+    /// without the soundscape's work) or resumes it (faded in from where it stopped).
+    pub fn set_paused(&self, paused: bool) {
+        self.shared.paused.store(paused, Ordering::Relaxed);
+    }
+
     /// The callback's counters.
     pub fn counters(&self) -> &Counters {
         &self.shared.counters
@@ -248,6 +262,11 @@ impl FrameReceiver {
         let splash = unsafe { *s.ring[tail % SPLASH_RING].get() };
         s.tail.store(tail.wrapping_add(1), Ordering::Release);
         Some(splash)
+    }
+
+    /// Whether the frame thread paused the sound.
+    pub fn paused(&self) -> bool {
+        self.shared.paused.load(Ordering::Relaxed)
     }
 
     /// The volume set by the frame thread.

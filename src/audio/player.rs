@@ -11,6 +11,9 @@ use super::link::{FrameReceiver, Scheduling};
 /// Frames converted at a time for devices that take integer samples.
 pub const SCRATCH_FRAMES: usize = 1024;
 
+/// Frames a pause fades out over, and a resume in (5 ms at 48 kHz: no click, no spike).
+pub const FADE_FRAMES: f32 = 240.0;
+
 /// The audio thread's side: the soundscape and the link's receiving end.
 pub struct Player {
     engine: Soundscape,
@@ -18,6 +21,8 @@ pub struct Player {
     scratch: Box<[f32; 2 * SCRATCH_FRAMES]>,
     /// Whether the thread calling [`Player::fill`] has asked for real-time scheduling.
     promoted: bool,
+    /// The pause's gain: 1 playing, 0 paused, between while fading.
+    gain: f32,
 }
 
 impl Player {
@@ -28,6 +33,7 @@ impl Player {
             link,
             scratch: Box::new([0.0; 2 * SCRATCH_FRAMES]),
             promoted: false,
+            gain: 1.0,
         }
     }
 
@@ -45,6 +51,21 @@ impl Player {
                 .store(got.as_u8(), Ordering::Relaxed);
         }
         let start = Instant::now();
+        let channels = channels.max(1);
+        let frames = out.len() / channels;
+        let paused = self.link.paused();
+        if paused {
+            let c = self.link.counters();
+            c.paused_frames.fetch_add(frames as u64, Ordering::Relaxed);
+            if self.gain <= 0.0 {
+                // Faded out: silence without the soundscape's work (its clock stands still).
+                out.fill(convert(0.0));
+                c.callbacks.fetch_add(1, Ordering::Relaxed);
+                c.frames.fetch_add(frames as u64, Ordering::Relaxed);
+                return;
+            }
+        }
+        let target = if paused { 0.0 } else { 1.0 };
         let frame = *self.link.latest();
         self.engine.set_frame(&frame);
         self.engine.set_volume(self.link.volume());
@@ -53,13 +74,19 @@ impl Player {
             s.time = self.engine.time();
             self.engine.splash(s);
         }
-        let channels = channels.max(1);
-        let frames = out.len() / channels;
         let mut done = 0;
         while done < frames {
             let n = (frames - done).min(SCRATCH_FRAMES);
             let buf = &mut self.scratch[..2 * n];
             self.engine.render(buf);
+            if self.gain != target || target < 1.0 {
+                // Fading toward the pause's target, a step a frame.
+                for s in buf.chunks_exact_mut(2) {
+                    self.gain += (target - self.gain).clamp(-1.0 / FADE_FRAMES, 1.0 / FADE_FRAMES);
+                    s[0] *= self.gain;
+                    s[1] *= self.gain;
+                }
+            }
             let dst = &mut out[done * channels..(done + n) * channels];
             for (d, s) in dst.chunks_exact_mut(channels).zip(buf.chunks_exact(2)) {
                 match d.len() {

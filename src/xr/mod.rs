@@ -67,6 +67,11 @@ pub struct FrameState {
     pub views: [EyeView; 2],
     /// False when the runtime wants the frame skipped (hidden, not focused).
     pub should_render: bool,
+    /// The user is away (the session visible but not focused: the system menu, the headset
+    /// taken off, another app in front; Meta's VRC.Quest.Functional.2): the world holds still
+    /// (its clock, the physics, the sound), input is ignored, and the last world keeps being
+    /// drawn while the runtime asks for frames.
+    pub paused: bool,
     /// Live changes to apply before this frame, first to last (`None` slots are empty).
     pub tweaks: [Option<Tweak>; MAX_TWEAKS],
     /// Left and right hands (controller grip pose, squeeze, velocities) where tracked: they

@@ -144,7 +144,7 @@ pub fn sound_report(stdout: &str) -> SoundLine {
         seconds: number_before(" s of sound"),
         underruns: number_before(" under-runs") as u64,
         late_wakes: number_before(" late wakes") as u64,
-        real_time: line.ends_with("real-time scheduling"),
+        real_time: line.contains("real-time scheduling"),
         line: line.to_string(),
     }
 }

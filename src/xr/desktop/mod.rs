@@ -289,6 +289,7 @@ impl FrameLoop for HeadlessXr {
             period,
             views: eye_views(position, orientation),
             should_render: !settling,
+            paused: false,
             tweaks,
             hands: [None; 2],
             pointer: [None; crate::xr::MAX_POINTER_EVENTS],

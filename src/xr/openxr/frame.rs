@@ -121,6 +121,7 @@ impl OpenXr {
             period,
             views,
             should_render,
+            paused: !self.lifecycle.focused(),
             tweaks,
             hands,
             pointer,

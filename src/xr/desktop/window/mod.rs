@@ -361,6 +361,8 @@ impl FrameLoop for WindowXr {
             period: self.period,
             views: eye_views(position, orientation),
             should_render: extent.width >= 2 && extent.height > 0,
+            // A developer's window keeps the sea moving when it loses the keyboard.
+            paused: false,
             tweaks: self.input.take_tweaks(),
             hands: [None; 2],
             pointer: self.input.panel.take(),
