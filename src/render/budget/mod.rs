@@ -18,6 +18,8 @@ pub mod adreno;
 pub mod calibration;
 pub mod headset;
 pub mod spirv;
+mod views;
+pub use views::{budget_views, StandardView, STRESS_VIEW, TOP_DECK, VIEWS};
 
 use self::spirv::InstructionCounts;
 use crate::render::shaders::cost;
@@ -180,67 +182,6 @@ pub const QUEST_3_120: HeadsetModel = HeadsetModel {
 /// Headsets priced from another's frames (same eye size and settings, another refresh rate):
 /// each with the one whose counts it takes.
 pub const RATE_VARIANTS: [(HeadsetModel, &str); 1] = [(QUEST_3_120, QUEST_3.name)];
-
-/// A standard view: where the eyes are and where they look.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct StandardView {
-    /// Short name (the JSON's `view`).
-    pub name: &'static str,
-    /// Eye height above the mean sea (m).
-    pub height: f32,
-    /// Yaw (degrees; 0 looks along −z, the default sun is at −28).
-    pub yaw: f32,
-    /// Pitch (degrees, negative looks down).
-    pub pitch: f32,
-}
-
-/// The views every headset is measured in and the calibration runs: standing on the deck
-/// facing the horizon, into the sun's glitter, looking down at the water, and 25 m up (a
-/// stress view: no eye the app allows is that high).
-pub const VIEWS: [StandardView; 4] = [
-    StandardView {
-        name: "horizon",
-        height: 1.7,
-        yaw: 0.0,
-        pitch: 0.0,
-    },
-    StandardView {
-        name: "glitter",
-        height: 1.7,
-        yaw: -28.0,
-        pitch: -5.0,
-    },
-    StandardView {
-        name: "down",
-        height: 1.7,
-        yaw: 60.0,
-        pitch: -60.0,
-    },
-    StandardView {
-        name: "high",
-        height: 25.0,
-        yaw: 0.0,
-        pitch: -15.0,
-    },
-];
-
-/// The highest eye the app allows: a standing eye (1.7 m) on the tallest deck
-/// (`app::floating::MAX_DECK_HEIGHT`, 8 m; `tests/gpu_budget.rs` holds the two in step), looking
-/// out as "high" does. The budget's gate takes it in place of the 25 m stress view (issue 43).
-pub const TOP_DECK: StandardView = StandardView {
-    name: "top-deck",
-    height: 9.7,
-    yaw: 0.0,
-    pitch: -15.0,
-};
-
-/// The views `vr-ocean gpu-budget` prices: [`VIEWS`] and [`TOP_DECK`].
-pub fn budget_views() -> [&'static StandardView; 5] {
-    [&VIEWS[0], &VIEWS[1], &VIEWS[2], &VIEWS[3], &TOP_DECK]
-}
-
-/// The stress view the gate leaves out: reported, not gated (no user's eye is that high).
-pub const STRESS_VIEW: &str = "high";
 
 /// What one frame of a view measured, both eyes together.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
