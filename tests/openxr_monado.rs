@@ -196,6 +196,93 @@ fn the_sound_keeps_time_for_a_minute_of_monado_frames() {
     assert!(!run.stderr.contains("ALSA lib"), "{run}");
 }
 
+/// Seconds of the day of an env_logger line (`[2026-11-28T12:16:25Z INFO ...`).
+fn log_second(line: &str) -> Option<f64> {
+    let t = line.split_once('T')?.1.get(..8)?;
+    let mut parts = t.split(':').map(|p| p.parse::<f64>().ok());
+    Some(parts.next()?? * 3600.0 + parts.next()?? * 60.0 + parts.next()??)
+}
+
+/// Issue 44 (VRC.Quest.Functional.2): a second client takes the focus from the first, as the
+/// Quest's system menu does. The first pauses: no splash while it is not focused, and its
+/// sound's report says it was paused about as long as it was unfocused.
+#[test]
+#[ignore = "needs root and the Monado root (the `openxr (Monado)` step of cargo xtask test)"]
+fn a_client_without_the_focus_pauses_its_world_and_sound() {
+    let root = monado::root_from_env();
+    let service = Monado::start_with(&root, "focus", false);
+    let (first, second) = std::thread::scope(|s| {
+        let first = s.spawn(|| {
+            service.client(
+                Path::new(EXE),
+                &[
+                    "xr", "--frames", "900", "--grid", "64", "--preset", "low", "--wind", "14",
+                ],
+                &[("RUST_LOG", "info")],
+                Duration::from_secs(300),
+            )
+        });
+        // The first is in its frame loop well before this; the second takes the focus for its
+        // 200 frames (10 s at Monado's 20 Hz) and gives it back.
+        std::thread::sleep(Duration::from_secs(15));
+        let second = service.client(
+            Path::new(EXE),
+            &[
+                "xr", "--frames", "200", "--grid", "64", "--preset", "low", "--audio", "off",
+            ],
+            &[("RUST_LOG", "info")],
+            Duration::from_secs(120),
+        );
+        (first.join().unwrap(), second)
+    });
+    let _ = service.finish();
+    assert!(first.success(), "{first}");
+    assert!(second.success(), "{second}");
+    // The first client's log, from losing the focus to getting it back.
+    let log: Vec<&str> = first.stderr.lines().collect();
+    let states: Vec<(usize, &str)> = log
+        .iter()
+        .enumerate()
+        .filter_map(|(i, l)| l.split_once("session state: ").map(|(_, s)| (i, s.trim())))
+        .collect();
+    let lost = states
+        .windows(2)
+        .find(|w| w[0].1 == "FOCUSED" && w[1].1 != "FOCUSED")
+        .map(|w| w[1].0)
+        .unwrap_or_else(|| panic!("the first client never lost the focus: {states:?}\n{first}"));
+    let back = states
+        .iter()
+        .find(|(i, s)| *i > lost && *s == "FOCUSED")
+        .map(|(i, _)| *i)
+        .unwrap_or_else(|| panic!("the focus never came back: {states:?}\n{first}"));
+    let away = log_second(log[back]).unwrap() - log_second(log[lost]).unwrap();
+    println!(
+        "unfocused {away} s (lines {lost}-{back}); {} splashes in the run",
+        first.stderr.matches("splash at").count()
+    );
+    assert!(away >= 5.0, "unfocused only {away} s\n{first}");
+    let splashes_away: Vec<&&str> = log[lost..back]
+        .iter()
+        .filter(|l| l.contains("splash at"))
+        .collect();
+    assert!(
+        splashes_away.is_empty(),
+        "splashes while unfocused: {splashes_away:?}"
+    );
+    let sound = common::sound_report(&first.stdout);
+    println!("{}", sound.line);
+    let paused: f64 = sound
+        .line
+        .rsplit_once("paused ")
+        .and_then(|(_, p)| p.trim_end_matches(" s").parse().ok())
+        .unwrap_or_else(|| panic!("no paused time in {}", sound.line));
+    // The log's timestamps are whole seconds.
+    assert!(
+        (paused - away).abs() <= 2.0,
+        "paused {paused} s, unfocused {away} s"
+    );
+}
+
 #[test]
 #[ignore = "needs root and the Monado root (the `openxr (Monado)` step of cargo xtask test)"]
 fn runtime_killed_mid_session_is_a_clean_error() {

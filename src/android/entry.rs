@@ -6,6 +6,7 @@ use android_activity::AndroidApp;
 use super::frame_loop::ActivityFrameLoop;
 use super::options::{apply_settings, run_options, xr_options};
 use super::LOG_TAG;
+use crate::app::keep::SettingsKeeper;
 use crate::app::{self, AppError, SoundSink};
 use crate::ui::SettingsFile;
 use crate::xr::openxr::OpenXr;
@@ -70,17 +71,14 @@ fn run(app: AndroidApp) -> Result<(), AppError> {
         xr.gpu().device_name
     );
     let mut frame_loop = ActivityFrameLoop::new(xr, app);
-    let result = app::run(&mut frame_loop, &options, &mut app::NoHooks);
+    // The choices are kept as they settle and at the end, however the session ended (the
+    // runtime lost, the process about to be killed).
+    let audio = options.audio.sink != SoundSink::Off;
+    let mut keeper = SettingsKeeper::new(kept.as_ref(), options.audio.volume, audio);
+    let result = app::run(&mut frame_loop, &options, &mut keeper);
     log::info!("openxr summary: {}", frame_loop.xr().summary().line());
     drop(frame_loop);
     let report = result?;
-    if let Some(file) = &kept {
-        let audio = options.audio.sink != SoundSink::Off;
-        match file.save(&report.chosen.settings(options.audio.volume, audio)) {
-            Ok(()) => log::info!("settings saved to {}", file.path().display()),
-            Err(e) => log::warn!("{e}"),
-        }
-    }
     log::info!("{} frames rendered", report.frames);
     for (name, p) in app::timing::TIMINGS.iter().zip(report.times.all()) {
         log::info!(

@@ -5,6 +5,7 @@
 pub mod clock;
 pub mod floating;
 pub mod govern;
+pub mod keep;
 pub mod live;
 mod panel;
 pub mod report;
@@ -138,6 +139,12 @@ pub trait RunHooks {
     /// A frame ended (after [`FrameLoop::end_frame`]). Tests count allocations here.
     fn frame_done(&mut self, _frame: &FrameState) {}
 
+    /// The user's choices, to be kept (`keep::SettingsKeeper` saves them): once they have
+    /// stayed unchanged for [`KEEP_AFTER`] after a change, and at the end of the run however it
+    /// ended (a lost runtime, a device error): a process killed at any moment loses at most
+    /// the last [`KEEP_AFTER`] of changes.
+    fn keep(&mut self, _chosen: &live::Chosen) {}
+
     /// The control panel drew a new image during this frame (egui ran: it allocates). Tests
     /// that count allocations tell these frames apart.
     fn panel_drawn(&mut self, _frame: &FrameState) {}
@@ -147,6 +154,10 @@ pub trait RunHooks {
 pub struct NoHooks;
 
 impl RunHooks for NoHooks {}
+
+/// How long the user's choices stay unchanged after a change before they are kept
+/// ([`RunHooks::keep`]): a slider dragged is kept once, when it stops.
+pub const KEEP_AFTER: std::time::Duration = std::time::Duration::from_secs(1);
 
 /// Runs the frame loop until the backend ends the session, telling `hooks` about captures
 /// (frames in `opts.capture`, after their rendering finished) and every finished frame.
@@ -193,6 +204,10 @@ struct Frames<'a> {
     in_flight: bool,
     /// Display time to world time across the user's absences (`FrameState::paused`).
     clock: clock::WorldClock,
+    /// The choices last given to [`RunHooks::keep`] (or the run's start).
+    kept: Option<live::Chosen>,
+    /// A change not kept yet, and since when it has stood.
+    changed: Option<(live::Chosen, Instant)>,
     stats: RunStats,
 }
 
@@ -273,6 +288,8 @@ impl<'a> Frames<'a> {
             quit: false,
             in_flight: false,
             clock: clock::WorldClock::default(),
+            kept: None,
+            changed: None,
             stats: RunStats {
                 times: FrameTimes::with_capacity(16_384),
                 max_draws: 0,
@@ -362,6 +379,7 @@ impl<'a> Frames<'a> {
             self.record(&frame, &r, &cost);
             self.govern(&frame, r.gpu_pass)?;
         }
+        self.keep_settled_choices();
         if self.stats.shown_at.elapsed().as_secs_f64() >= 0.5 {
             self.stats.shown_at = Instant::now();
             self.stats.recent.summarise(
@@ -373,6 +391,49 @@ impl<'a> Frames<'a> {
             self.xr.show_stats(&self.stats.text);
         }
         Ok(true)
+    }
+
+    /// What the user has chosen now: the waves, the preset (the user's, not the governor's
+    /// step), the sky and the comfort options; a change the panel has not applied yet is the
+    /// user's last word too.
+    fn chosen(&self) -> live::Chosen {
+        let (waves, sun) = self.panel.as_ref().map_or((None, None), |p| p.pending());
+        live::Chosen {
+            waves: waves.unwrap_or(self.sim.config().waves),
+            preset: self
+                .governed
+                .as_ref()
+                .map_or(self.lod.settings().preset(), |g| g.preset),
+            sun: sun.unwrap_or(self.renderer.settings().sun),
+            comfort: self
+                .panel
+                .as_ref()
+                .map_or(self.opts.comfort, |p| p.comfort()),
+        }
+    }
+
+    /// Gives the hooks the user's choices once a change has stood for [`KEEP_AFTER`].
+    fn keep_settled_choices(&mut self) {
+        let now = self.chosen();
+        let Some(kept) = self.kept else {
+            // The run's start: what it began with is not a change.
+            self.kept = Some(now);
+            return;
+        };
+        if now == kept {
+            self.changed = None;
+            return;
+        }
+        match self.changed {
+            Some((pending, since)) if pending == now => {
+                if since.elapsed() >= KEEP_AFTER {
+                    self.hooks.keep(&now);
+                    self.kept = Some(now);
+                    self.changed = None;
+                }
+            }
+            _ => self.changed = Some((now, Instant::now())),
+        }
     }
 
     /// The LOD for both eyes of `frame`, padded by the shown surfaces' displacement.
@@ -460,20 +521,9 @@ impl<'a> Frames<'a> {
         &'a mut dyn FrameLoop,
         Result<Option<SoundReport>, AppError>,
     ) {
-        // A change the panel had not applied yet is the user's last word too.
-        let (waves, sun) = self.panel.as_ref().map_or((None, None), |p| p.pending());
-        let chosen = live::Chosen {
-            waves: waves.unwrap_or(self.sim.config().waves),
-            preset: self
-                .governed
-                .as_ref()
-                .map_or(self.lod.settings().preset(), |g| g.preset),
-            sun: sun.unwrap_or(self.renderer.settings().sun),
-            comfort: self
-                .panel
-                .as_ref()
-                .map_or(self.opts.comfort, |p| p.comfort()),
-        };
+        let chosen = self.chosen();
+        // The last chance to keep what the user chose, whether the run ended well or not.
+        self.hooks.keep(&chosen);
         let gpu = self.xr.gpu();
         gpu.wait_idle();
         let attachment_bytes = self.renderer.attachment_bytes();

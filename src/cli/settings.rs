@@ -4,7 +4,7 @@
 //! running). `--reset-settings` forgets them first. `headless` never reads or writes them:
 //! its images depend on its flags alone.
 
-use vr_ocean::app::RunReport;
+use vr_ocean::app::keep::SettingsKeeper;
 use vr_ocean::ui::{Settings, SettingsFile};
 
 use super::args::{OnOff, PresetArg, ViewArgs};
@@ -81,13 +81,8 @@ pub fn deck_height_given() -> bool {
     given("--deck-height")
 }
 
-/// Saves what the run ended with: its waves, preset and sun, and the sound as asked.
-pub fn save(file: &SettingsFile, view: &ViewArgs, report: &RunReport) {
-    let settings = report
-        .chosen
-        .settings(view.volume, view.audio != Some(OnOff::Off));
-    match file.save(&settings) {
-        Ok(()) => log::info!("settings saved to {}", file.path().display()),
-        Err(e) => log::warn!("{e}"),
-    }
+/// The hooks that keep the run's choices in `file` (none: nothing kept), with the sound as
+/// asked.
+pub fn keeper<'a>(file: Option<&'a SettingsFile>, view: &ViewArgs) -> SettingsKeeper<'a> {
+    SettingsKeeper::new(file, view.volume, view.audio != Some(OnOff::Off))
 }

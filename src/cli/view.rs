@@ -349,10 +349,8 @@ pub fn window_cmd(mut a: WindowArgs, fallback: bool) -> CmdResult {
     }
     // Counts validation errors over the whole window lifetime, shutdown included.
     let validation = ValidationWatch::of(xr.gpu());
-    let report = app::run(&mut xr, &opts, &mut app::NoHooks)?;
-    if let Some(file) = &kept {
-        settings::save(file, &a.view, &report);
-    }
+    let mut keeper = settings::keeper(kept.as_ref(), &a.view);
+    let report = app::run(&mut xr, &opts, &mut keeper)?;
     let screenshot = xr.take_screenshot();
     drop(xr);
     println!("{} frames", report.frames);
@@ -444,14 +442,13 @@ pub fn xr_cmd(mut a: XrArgs) -> CmdResult {
     );
     // Counts validation errors over the whole session, shutdown included.
     let validation = ValidationWatch::of(xr.gpu());
-    let result = app::run(&mut xr, &opts, &mut app::NoHooks);
+    // The choices are kept as they settle and at the end, a lost runtime's end included.
+    let mut keeper = settings::keeper(kept.as_ref(), &a.view);
+    let result = app::run(&mut xr, &opts, &mut keeper);
     let summary = xr.summary();
     drop(xr);
     println!("openxr summary: {}", summary.line());
     let report = result?;
-    if let Some(file) = &kept {
-        settings::save(file, &a.view, &report);
-    }
     println!("{} frames rendered", report.frames);
     print_times(&report.times);
     print_sound(&report);

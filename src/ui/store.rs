@@ -130,7 +130,10 @@ impl SettingsFile {
         fs::rename(&tmp, &self.path).map_err(|e| {
             let _ = fs::remove_file(&tmp);
             fail("replace", &self.path, e)
-        })
+        })?;
+        // The rename is the directory's change: synced too, or a power cut may undo it.
+        sync_dir(self.path.parent().filter(|d| !d.as_os_str().is_empty()))
+            .map_err(|(dir, e)| fail("sync", &dir, e))
     }
 
     /// Forgets the kept settings (`--reset-settings`); nothing kept is not an error.
@@ -143,6 +146,23 @@ impl SettingsFile {
                 self.path.display()
             ))),
         }
+    }
+}
+
+/// Syncs directory `dir` (the current one for `None`) where the platform allows it (Unix);
+/// elsewhere a directory is not opened as a file and this does nothing.
+fn sync_dir(dir: Option<&Path>) -> Result<(), (std::path::PathBuf, std::io::Error)> {
+    #[cfg(unix)]
+    {
+        let dir = dir.unwrap_or(Path::new("."));
+        fs::File::open(dir)
+            .and_then(|d| d.sync_all())
+            .map_err(|e| (dir.to_path_buf(), e))
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = dir;
+        Ok(())
     }
 }
 

@@ -146,6 +146,13 @@ impl Monado {
     /// (letters, digits, `-`, `_`; at most 40) keeps services and their files apart. Panics with
     /// the end of the service's log when it exits or times out.
     pub fn start(root: &Path, name: &str) -> Monado {
+        Self::start_with(root, name, true)
+    }
+
+    /// [`Monado::start`], with `IPC_EXIT_ON_DISCONNECT` only when `exit_on_disconnect` (a
+    /// service for two clients must outlive the first to leave; [`Monado::finish`] then stops
+    /// it with SIGTERM).
+    pub fn start_with(root: &Path, name: &str, exit_on_disconnect: bool) -> Monado {
         let runtime_dir = prepare_runtime_dir(root, name);
         let log_path = runtime_dir.join(SERVICE_LOG);
         let log = File::create(&log_path)
@@ -158,8 +165,8 @@ impl Monado {
             ("SIMULATED_LEFT", "simple"),
             ("SIMULATED_RIGHT", "simple"),
             ("XRT_NO_STDIN", "1"),
-            ("IPC_EXIT_ON_DISCONNECT", "1"),
         ])
+        .envs(exit_on_disconnect.then_some(("IPC_EXIT_ON_DISCONNECT", "1")))
         .env("XDG_RUNTIME_DIR", runtime_dir_in_root(name))
         .arg("monado-service")
         .stdin(Stdio::null())
