@@ -288,12 +288,18 @@ fn a_client_without_the_focus_pauses_its_world_and_sound() {
 fn runtime_killed_mid_session_is_a_clean_error() {
     let root = monado::root_from_env();
     let service = Monado::start(&root, "killed");
+    // The run's choice (`--wind 14`) must be kept though the runtime dies (issue 44).
+    let config = root.join("tmp/vr-ocean-killed-config");
+    let _ = std::fs::remove_dir_all(&config);
     let run = std::thread::scope(|s| {
         let client = s.spawn(|| {
             service.client(
                 Path::new(EXE),
-                &["xr", "--grid", "64", "--preset", "low"],
-                &[("RUST_LOG", "info")],
+                &["xr", "--grid", "64", "--preset", "low", "--wind", "14"],
+                &[
+                    ("RUST_LOG", "info"),
+                    ("XDG_CONFIG_HOME", "/tmp/vr-ocean-killed-config"),
+                ],
                 Duration::from_secs(180),
             )
         });
@@ -319,6 +325,11 @@ fn runtime_killed_mid_session_is_a_clean_error() {
     );
     assert!(!run.stderr.contains("panicked"), "{run}");
     let _ = service.finish();
+    let kept = std::fs::read_to_string(config.join("vr-ocean/settings.json"))
+        .unwrap_or_else(|e| panic!("no settings kept: {e}\n{run}"));
+    let kept: serde_json::Value = serde_json::from_str(&kept).expect("JSON settings");
+    assert_eq!(kept["wind_speed"].as_f64(), Some(14.0), "{kept}");
+    let _ = std::fs::remove_dir_all(&config);
 }
 
 #[test]
