@@ -142,3 +142,71 @@ pub fn promote_this_thread() -> Scheduling {
 pub fn promote_this_thread() -> Scheduling {
     Scheduling::Platform
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::audio::engine::SoundConfig;
+    use crate::audio::link::link;
+    use crate::audio::scene::SoundFrame;
+
+    /// The largest step between neighbouring samples of either channel, from `last` (the
+    /// previous buffer's last frame) on.
+    fn largest_step(last: [f32; 2], buf: &[f32]) -> f32 {
+        let frames = || std::iter::once(&last[..]).chain(buf.chunks_exact(2));
+        frames()
+            .zip(frames().skip(1))
+            .map(|(a, b)| (a[0] - b[0]).abs().max((a[1] - b[1]).abs()))
+            .fold(0.0, f32::max)
+    }
+
+    fn last_frame(buf: &[f32]) -> [f32; 2] {
+        [buf[buf.len() - 2], buf[buf.len() - 1]]
+    }
+
+    #[test]
+    fn a_pause_fades_out_to_counted_silence_and_back_in_without_a_jump() {
+        let (mut tx, rx) = link(1.0);
+        let mut player = Player::new(Soundscape::new(SoundConfig::default()).unwrap(), rx);
+        // A windy sea: something to hear.
+        let frame = SoundFrame {
+            wind_speed: 14.0,
+            ..SoundFrame::default()
+        };
+        tx.publish(&frame);
+        let mut buf = vec![0.0f32; 2 * 480];
+        for _ in 0..20 {
+            player.fill(&mut buf, 2, |x| x);
+        }
+        let playing = buf.iter().map(|x| x.abs()).fold(0.0, f32::max);
+        assert!(playing > 1e-3, "the sea is silent: {playing}");
+        let mut last = last_frame(&buf);
+        player.fill(&mut buf, 2, |x| x);
+        let steady = largest_step(last, &buf);
+        last = last_frame(&buf);
+
+        tx.set_paused(true);
+        player.fill(&mut buf, 2, |x| x);
+        // The first paused buffer fades: its last 240 frames silent, no step larger than
+        // playing's.
+        assert!(buf[2 * 240..].iter().all(|&x| x == 0.0));
+        assert!(largest_step(last, &buf) <= steady * 1.5 + 1e-6);
+        let before = player.counters().snapshot();
+        player.fill(&mut buf, 2, |x| x);
+        assert!(buf.iter().all(|&x| x == 0.0));
+        let after = player.counters().snapshot();
+        assert_eq!(after.paused_frames - before.paused_frames, 480);
+
+        tx.set_paused(false);
+        player.fill(&mut buf, 2, |x| x);
+        // Back in from silence: the first samples near zero, rising over the fade.
+        assert!(
+            buf[0].abs() < 1e-3 && buf[1].abs() < 1e-3,
+            "{:?}",
+            &buf[..2]
+        );
+        assert!(largest_step([0.0; 2], &buf) <= steady * 1.5 + 1e-6);
+        player.fill(&mut buf, 2, |x| x);
+        assert!(buf.iter().map(|x| x.abs()).fold(0.0, f32::max) > 1e-3);
+    }
+}
