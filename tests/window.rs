@@ -318,6 +318,8 @@ fn live_tweaks_change_waves_refuse_bad_values_and_switch_presets() {
             (4, vec![Tweak::Preset(QualityPreset::Medium)]),
             (6, vec![Tweak::Preset(QualityPreset::Medium)]), // already: nothing to do
             (7, vec![Tweak::Preset(QualityPreset::Low)]),
+            // The controller's preset button: the next after the user's current (issue 44).
+            (8, vec![Tweak::NextPreset]),
         ],
     };
     let opts = gpu::small_options(StereoMode::Multiview, vec![9]);
@@ -332,6 +334,11 @@ fn live_tweaks_change_waves_refuse_bad_values_and_switch_presets() {
     let report = app::run(&mut xr, &opts, &mut Keep(&mut frames)).expect("run with tweaks");
     drop(xr);
     assert_eq!(report.frames, 10);
+    assert_eq!(
+        report.chosen.preset,
+        QualityPreset::Medium,
+        "Low, then the next"
+    );
     assert_eq!(log.errors(), 0, "validation errors: {:?}", log.messages());
     // The frame after the last switch is a normal picture (sky on top, no black pixels).
     let eye = &frames[0];

@@ -78,7 +78,11 @@ pub fn apply_wave_tweak(sim: &mut Simulation, tweak: Tweak) {
             waves.choppiness = ((waves.choppiness + d) * 100.0).round() / 100.0;
             "choppiness"
         }
-        Tweak::Preset(_) | Tweak::Throw | Tweak::LaunchBoat(_) | Tweak::Sun { .. } => return,
+        Tweak::Preset(_)
+        | Tweak::NextPreset
+        | Tweak::Throw
+        | Tweak::LaunchBoat(_)
+        | Tweak::Sun { .. } => return,
     };
     match sim.set_waves(waves) {
         Ok(()) => log::info!(

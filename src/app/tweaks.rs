@@ -14,6 +14,15 @@ impl Frames<'_> {
         for &tweak in frame.tweaks.iter().flatten() {
             match tweak {
                 Tweak::Preset(p) => self.user_preset(p)?,
+                Tweak::NextPreset => {
+                    // The user's preset, not the governor's step: cycling starts from what the
+                    // user chose.
+                    let current = self
+                        .governed
+                        .as_ref()
+                        .map_or(self.lod.settings().preset(), |g| g.preset);
+                    self.user_preset(current.next())?;
+                }
                 Tweak::Throw => self.throw(frame),
                 Tweak::LaunchBoat(speed) => self.launch_boat(frame, speed),
                 Tweak::Sun { elevation, azimuth } => self.move_sun(elevation, azimuth)?,

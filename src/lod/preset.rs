@@ -63,6 +63,17 @@ impl QualityPreset {
         }
     }
 
+    /// The next preset up, the finest wrapping round to the coarsest (the controller's preset
+    /// button cycles them).
+    pub fn next(self) -> Self {
+        match self {
+            Self::Low => Self::Medium,
+            Self::Medium => Self::High,
+            Self::High => Self::Ultra,
+            Self::Ultra => Self::Low,
+        }
+    }
+
     /// Lower-case name, as the CLI spells it.
     pub fn name(self) -> &'static str {
         match self {
@@ -248,6 +259,18 @@ impl LodSettings {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn next_cycles_through_every_preset_coarsest_to_finest() {
+        let mut p = QualityPreset::Low;
+        let mut seen = Vec::new();
+        for _ in 0..4 {
+            seen.push(p);
+            p = p.next();
+        }
+        assert_eq!(seen, QualityPreset::ALL);
+        assert_eq!(p, QualityPreset::Low);
+    }
 
     #[test]
     fn max_level_follows_eq_56() {

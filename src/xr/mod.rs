@@ -35,6 +35,9 @@ pub enum Tweak {
     SeaState(i8),
     /// Switch to this quality preset (rebuilds the LOD and the renderer).
     Preset(QualityPreset),
+    /// Switch to the preset after the user's current one, whatever set it (the kept settings,
+    /// the panel, a key; not a step the GPU governor took): the controller's preset button.
+    NextPreset,
     /// Throw a crate from the head along the view (the window's throw key).
     Throw,
     /// Launch a boat ahead of the head along the view, its motor holding this speed (m/s).

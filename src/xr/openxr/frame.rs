@@ -13,7 +13,6 @@ use super::input::InputFrame;
 use super::lifecycle::{self, Action, Event, ExitReason};
 use super::{backend, FramePoll, OpenXr, Pending, EXIT_SIGNAL, LOCAL_EYE_HEIGHT};
 use crate::base::{EyeView, Fov};
-use crate::lod::QualityPreset;
 use crate::physics::{HandInput, Pose};
 use crate::ui::panel::PointerEvent;
 use crate::xr::{FrameState, Tweak, XrError, MAX_POINTER_EVENTS, MAX_TWEAKS};
@@ -343,8 +342,8 @@ impl OpenXr {
         }
         let mut n = 0;
         if frame.next_preset {
-            self.preset = next_preset(self.preset);
-            tweaks[n] = Some(Tweak::Preset(self.preset));
+            // The app cycles from the user's current preset (kept, panel or governor aside).
+            tweaks[n] = Some(Tweak::NextPreset);
             n += 1;
             let s = self.session();
             s.input.tick(&s.session);
@@ -401,15 +400,5 @@ fn fov(f: xr::Fovf) -> Fov {
         angle_right: f.angle_right,
         angle_up: f.angle_up,
         angle_down: f.angle_down,
-    }
-}
-
-/// The quality preset after `p`, wrapping around.
-pub fn next_preset(p: QualityPreset) -> QualityPreset {
-    match p {
-        QualityPreset::Low => QualityPreset::Medium,
-        QualityPreset::Medium => QualityPreset::High,
-        QualityPreset::High => QualityPreset::Ultra,
-        QualityPreset::Ultra => QualityPreset::Low,
     }
 }

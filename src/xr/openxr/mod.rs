@@ -342,8 +342,8 @@ impl OpenXr {
         self.headset
     }
 
-    /// The quality preset selected now: the option or the headset's default, then whatever
-    /// the controller's preset button chose. The app starts its LOD with it.
+    /// The quality preset to start with: the option or the headset's default (the controller's
+    /// preset button then asks the app for the next one, `Tweak::NextPreset`).
     pub fn preset(&self) -> QualityPreset {
         self.preset
     }
