@@ -11,52 +11,10 @@ use common::gpu;
 use vr_ocean::app::keep::SettingsKeeper;
 use vr_ocean::app::live::Chosen;
 use vr_ocean::app::{self, RunHooks};
-use vr_ocean::render::{GpuContext, StereoMode, TargetImages};
+use vr_ocean::render::StereoMode;
 use vr_ocean::ui::SettingsFile;
 use vr_ocean::xr::desktop::{EyeSize, HeadlessXr};
-use vr_ocean::xr::{Acquired, FrameLoop, FrameState, Tweak, XrError};
-
-/// Headless frames: the wind raised by 3 m/s at frame 2; the runtime "lost" once the change
-/// has stood for `fail_after` (or at frame 2000).
-struct Lost {
-    inner: HeadlessXr,
-    changed_at: Option<Instant>,
-    fail_after: Duration,
-}
-
-impl FrameLoop for Lost {
-    fn gpu(&self) -> &GpuContext {
-        self.inner.gpu()
-    }
-    fn targets(&self) -> TargetImages<'_> {
-        self.inner.targets()
-    }
-    fn begin_frame(&mut self) -> Result<Option<FrameState>, XrError> {
-        let mut state = self.inner.begin_frame()?;
-        if let Some(s) = state.as_mut() {
-            if s.index == 2 {
-                s.tweaks[0] = Some(Tweak::WindSpeed(3.0));
-                self.changed_at = Some(Instant::now());
-            }
-            let waited = self
-                .changed_at
-                .is_some_and(|t| t.elapsed() >= self.fail_after);
-            if waited || s.index >= 2000 {
-                return Err(XrError::Backend("the runtime was lost (test)".into()));
-            }
-        }
-        Ok(state)
-    }
-    fn acquire_image(&mut self) -> Result<Acquired, XrError> {
-        self.inner.acquire_image()
-    }
-    fn release_image(&mut self) -> Result<(), XrError> {
-        self.inner.release_image()
-    }
-    fn end_frame(&mut self, frame: &FrameState) -> Result<(), XrError> {
-        self.inner.end_frame(frame)
-    }
-}
+use vr_ocean::xr::{FrameLoop, FrameState, Tweak, XrError};
 
 /// Keeps every call's wind.
 #[derive(Default)]
@@ -77,10 +35,22 @@ fn lost_after(fail_after: Duration, hooks: &mut dyn RunHooks) -> (f32, String) {
     )
     .unwrap_or_else(|e| panic!("cannot start headless Vulkan (lavapipe): {e}"));
     let log = inner.gpu().validation.clone().expect("validation layer");
-    let mut xr = Lost {
+    // The wind raised by 3 m/s at frame 2; the runtime "lost" once the change has stood for
+    // `fail_after` (or at frame 2000).
+    let mut changed_at: Option<Instant> = None;
+    let mut xr = gpu::Edited {
         inner,
-        changed_at: None,
-        fail_after,
+        edit: |s: &mut FrameState| {
+            if s.index == 2 {
+                s.tweaks[0] = Some(Tweak::WindSpeed(3.0));
+                changed_at = Some(Instant::now());
+            }
+            let waited = changed_at.is_some_and(|t| t.elapsed() >= fail_after);
+            if waited || s.index >= 2000 {
+                return Err(XrError::Backend("the runtime was lost (test)".into()));
+            }
+            Ok(())
+        },
     };
     let opts = gpu::small_options(StereoMode::Multiview, Vec::new());
     let start_wind = opts.ocean.waves.wind_speed;

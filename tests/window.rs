@@ -11,9 +11,9 @@ use std::process::Command;
 use common::{assert_rejected, gpu};
 use vr_ocean::app;
 use vr_ocean::lod::QualityPreset;
-use vr_ocean::render::{GpuContext, StereoMode, TargetImages};
+use vr_ocean::render::StereoMode;
 use vr_ocean::xr::desktop::{EyeSize, HeadlessXr};
-use vr_ocean::xr::{Acquired, FrameLoop, FrameState, Tweak, XrError, MAX_TWEAKS};
+use vr_ocean::xr::{FrameLoop, FrameState, Tweak, MAX_TWEAKS};
 
 #[test]
 fn bad_window_sizes_are_clear_errors() {
@@ -254,44 +254,6 @@ fn window_shows_the_control_panel_over_the_view() {
     let _ = std::fs::remove_file(&shot);
 }
 
-/// Headless frames with tweaks injected, as the window's keys would send them.
-struct Tweaking {
-    inner: HeadlessXr,
-    script: Vec<(u64, Vec<Tweak>)>,
-}
-
-impl FrameLoop for Tweaking {
-    fn gpu(&self) -> &GpuContext {
-        self.inner.gpu()
-    }
-    fn targets(&self) -> TargetImages<'_> {
-        self.inner.targets()
-    }
-    fn begin_frame(&mut self) -> Result<Option<FrameState>, XrError> {
-        let mut state = self.inner.begin_frame()?;
-        if let Some(s) = state.as_mut() {
-            for (frame, tweaks) in &self.script {
-                if *frame == s.index {
-                    assert!(tweaks.len() <= MAX_TWEAKS);
-                    for (slot, t) in s.tweaks.iter_mut().zip(tweaks) {
-                        *slot = Some(*t);
-                    }
-                }
-            }
-        }
-        Ok(state)
-    }
-    fn acquire_image(&mut self) -> Result<Acquired, XrError> {
-        self.inner.acquire_image()
-    }
-    fn release_image(&mut self) -> Result<(), XrError> {
-        self.inner.release_image()
-    }
-    fn end_frame(&mut self, frame: &FrameState) -> Result<(), XrError> {
-        self.inner.end_frame(frame)
-    }
-}
-
 #[test]
 fn live_tweaks_change_waves_refuse_bad_values_and_switch_presets() {
     let _turn = WINDOWS.lock().unwrap_or_else(|e| e.into_inner());
@@ -303,24 +265,36 @@ fn live_tweaks_change_waves_refuse_bad_values_and_switch_presets() {
     )
     .unwrap_or_else(|e| panic!("cannot start headless Vulkan (lavapipe): {e}"));
     let log = inner.gpu().validation.clone().expect("validation layer");
-    let mut xr = Tweaking {
+    // Tweaks injected as the window's keys would send them.
+    let script: Vec<(u64, Vec<Tweak>)> = vec![
+        (
+            2,
+            vec![
+                Tweak::WindSpeed(2.0),
+                Tweak::WindSpeed(-1000.0), // refused: wind must stay > 0
+                Tweak::Choppiness(5.0),    // refused: choppiness in [0, 2]
+                Tweak::WindDirection(-30.0),
+            ],
+        ),
+        (4, vec![Tweak::Preset(QualityPreset::Medium)]),
+        (6, vec![Tweak::Preset(QualityPreset::Medium)]), // already: nothing to do
+        (7, vec![Tweak::Preset(QualityPreset::Low)]),
+        // The controller's preset button: the next after the user's current (issue 44).
+        (8, vec![Tweak::NextPreset]),
+    ];
+    let mut xr = gpu::Edited {
         inner,
-        script: vec![
-            (
-                2,
-                vec![
-                    Tweak::WindSpeed(2.0),
-                    Tweak::WindSpeed(-1000.0), // refused: wind must stay > 0
-                    Tweak::Choppiness(5.0),    // refused: choppiness in [0, 2]
-                    Tweak::WindDirection(-30.0),
-                ],
-            ),
-            (4, vec![Tweak::Preset(QualityPreset::Medium)]),
-            (6, vec![Tweak::Preset(QualityPreset::Medium)]), // already: nothing to do
-            (7, vec![Tweak::Preset(QualityPreset::Low)]),
-            // The controller's preset button: the next after the user's current (issue 44).
-            (8, vec![Tweak::NextPreset]),
-        ],
+        edit: |s: &mut FrameState| {
+            for (frame, tweaks) in &script {
+                if *frame == s.index {
+                    assert!(tweaks.len() <= MAX_TWEAKS);
+                    for (slot, t) in s.tweaks.iter_mut().zip(tweaks) {
+                        *slot = Some(*t);
+                    }
+                }
+            }
+            Ok(())
+        },
     };
     let opts = gpu::small_options(StereoMode::Multiview, vec![9]);
     let mut frames = Vec::new();

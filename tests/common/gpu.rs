@@ -199,3 +199,41 @@ pub fn render_after(
     );
     (report, hooks.0)
 }
+
+/// Headless frames, each edited by `edit` before the app sees it (a backend that injects
+/// tweaks, an absence, a lost runtime); everything else is the headless backend's.
+#[allow(dead_code)]
+pub struct Edited<F> {
+    /// The headless backend.
+    pub inner: vr_ocean::xr::desktop::HeadlessXr,
+    /// Changes a begun frame, or fails it.
+    pub edit: F,
+}
+
+impl<F> vr_ocean::xr::FrameLoop for Edited<F>
+where
+    F: FnMut(&mut vr_ocean::xr::FrameState) -> Result<(), vr_ocean::xr::XrError>,
+{
+    fn gpu(&self) -> &vr_ocean::render::GpuContext {
+        self.inner.gpu()
+    }
+    fn targets(&self) -> vr_ocean::render::TargetImages<'_> {
+        self.inner.targets()
+    }
+    fn begin_frame(&mut self) -> Result<Option<vr_ocean::xr::FrameState>, vr_ocean::xr::XrError> {
+        let mut state = self.inner.begin_frame()?;
+        if let Some(s) = state.as_mut() {
+            (self.edit)(s)?;
+        }
+        Ok(state)
+    }
+    fn acquire_image(&mut self) -> Result<vr_ocean::xr::Acquired, vr_ocean::xr::XrError> {
+        self.inner.acquire_image()
+    }
+    fn release_image(&mut self) -> Result<(), vr_ocean::xr::XrError> {
+        self.inner.release_image()
+    }
+    fn end_frame(&mut self, frame: &vr_ocean::xr::FrameState) -> Result<(), vr_ocean::xr::XrError> {
+        self.inner.end_frame(frame)
+    }
+}
