@@ -113,6 +113,10 @@ impl FrameLoop for ActivityFrameLoop {
         self.xr.report_gpu_time(gpu);
     }
 
+    fn report_cpu_wait(&mut self, waited: std::time::Duration) {
+        self.xr.report_cpu_wait(waited);
+    }
+
     fn governor_caps(&self) -> GovernorCaps {
         self.xr.governor_caps()
     }

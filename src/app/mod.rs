@@ -471,6 +471,7 @@ impl<'a> Frames<'a> {
                     .and_then(|w| w.interaction()),
             },
         )?;
+        self.xr.report_cpu_wait(report.wait);
         self.xr.release_image()?;
         if let Some(rb) = self.readback.as_mut() {
             if self.opts.capture.contains(&frame.index) {

@@ -1,8 +1,8 @@
 //! The GPU-time governor: steps rendering quality down when the GPU pass does not fit its
 //! share of the frame budget, and back up when there is headroom for a while.
 //!
-//! Why: the refresh governor (`openxr::quest::RefreshGovernor`) only lowers the refresh rate
-//! and stops at 72 Hz, where a Quest 2 already starts; estimates of this scene's GPU cost on
+//! Why: the refresh governor (`openxr::refresh::RefreshGovernor`) acts on GPU time only once
+//! this one has no cheaper level left, and stops at 72 Hz, where a Quest 2 already starts; estimates of this scene's GPU cost on
 //! the XR2 are good to about ±50 %, so the app has to adapt at run time where they are wrong
 //! (issue 28). Meta recommends dynamic resolution for the same reason.
 //!

@@ -157,6 +157,11 @@ pub trait FrameLoop {
     /// that adapt to the frame cost (the OpenXR refresh-rate governor) use it; others ignore it.
     fn report_gpu_time(&mut self, _gpu: std::time::Duration) {}
 
+    /// Time this frame's CPU work spent blocked on the GPU (the renderer's wait for its frame
+    /// slot), reported before [`FrameLoop::end_frame`]. The refresh-rate governor removes it
+    /// from the frame's CPU cost: a wait is not work.
+    fn report_cpu_wait(&mut self, _waited: std::time::Duration) {}
+
     /// What the GPU-time governor ([`gpu_governor`]) may change through this backend (the
     /// levels it cannot are skipped). Default: nothing.
     fn governor_caps(&self) -> gpu_governor::GovernorCaps {

@@ -3,7 +3,7 @@
 //! allocation), the controllers, and the [`FrameState`] the app renders.
 
 use std::sync::atomic::Ordering;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use glam::{Quat, Vec3};
 use openxr as xr;
@@ -113,6 +113,7 @@ impl OpenXr {
             acquired: false,
             released: false,
             started: Instant::now(),
+            waited: Duration::ZERO,
         });
         let frame = FrameState {
             index: self.index,

@@ -30,6 +30,7 @@ mod panel;
 mod panel_aim;
 pub mod quest;
 mod quest_setup;
+pub mod refresh;
 mod session;
 mod stats;
 pub mod swapchain;
@@ -47,8 +48,9 @@ pub use self::error::CallError;
 pub use self::exit_signal::{install_exit_signal_handler, EXIT_SIGNAL};
 use self::foveation::FoveationSupport;
 use self::lifecycle::{Action, Lifecycle};
-use self::quest::{Foveation, Headset, PerfLevel, RefreshGovernor};
+use self::quest::{Foveation, Headset, PerfLevel};
 use self::quest_setup::QuestSettings;
+use self::refresh::{FrameCost, RefreshGovernor};
 use self::session::{Session, SessionSettings};
 use self::stats::FrameStats;
 pub use self::stats::Summary;
@@ -130,6 +132,9 @@ struct Pending {
     released: bool,
     /// When `xrWaitFrame` returned: the frame's CPU cost runs from here.
     started: Instant,
+    /// Time blocked since then on the GPU (the slot's fence) and the compositor
+    /// (`xrWaitSwapchainImage`): not the app's work.
+    waited: Duration,
 }
 
 /// An OpenXR session driving the renderer.
@@ -382,22 +387,29 @@ impl OpenXr {
             .expect("the session exists until drop")
     }
 
-    /// Feeds the frame's cost to the refresh-rate governor and follows a step down.
-    fn govern_refresh_rate(&mut self, started: Instant) {
+    /// Feeds the frame's cost to the refresh-rate governor and follows its steps.
+    fn govern_refresh_rate(&mut self, pending: &Pending) {
         let Some(g) = self.refresh.as_mut() else {
             return;
         };
-        // The frame costs what the slower side costs: the app's CPU work since xrWaitFrame
-        // returned, or the GPU pass (Quest apps are usually GPU-bound). GPU time counts only
-        // once the GPU-time governor has no cheaper level left: it acts first.
-        let cpu = started.elapsed().as_secs_f64();
-        let gpu = if self.gpu_levels_left {
-            0.0
-        } else {
-            self.last_gpu.map_or(0.0, |d| d.as_secs_f64())
+        let before = g.rate();
+        // The app's own work since xrWaitFrame returned (its waits on the GPU and the
+        // compositor removed) and the GPU pass (Quest apps are usually GPU-bound).
+        let cost = FrameCost {
+            cpu: pending
+                .started
+                .elapsed()
+                .saturating_sub(pending.waited)
+                .as_secs_f64(),
+            gpu: self.last_gpu.map(|d| d.as_secs_f64()),
+            gpu_levels_left: self.gpu_levels_left,
         };
-        if let Some(rate) = g.observe(cpu.max(gpu)) {
-            log::warn!("frames do not fit the budget: asking for {rate} Hz");
+        if let Some(rate) = g.observe(cost) {
+            if rate < before {
+                log::warn!("frames do not fit the budget: asking for {rate} Hz");
+            } else {
+                log::info!("frames have room for a faster display: asking for {rate} Hz");
+            }
             self.stats.summary.refresh_rate = Some(rate);
             if let Err(e) = self.session().session.request_display_refresh_rate(rate) {
                 log::warn!("xrRequestDisplayRefreshRateFB: {e:?} ({e})");
@@ -435,6 +447,7 @@ impl FrameLoop for OpenXr {
 
     fn acquire_image(&mut self) -> Result<Acquired, XrError> {
         let s = self.session_mut();
+        let asked = Instant::now();
         let colour = s
             .colour
             .acquire()
@@ -445,6 +458,7 @@ impl FrameLoop for OpenXr {
         };
         if let Some(p) = self.pending.as_mut() {
             p.acquired = true;
+            p.waited += asked.elapsed();
         }
         Ok(Acquired { colour, depth })
     }
@@ -470,7 +484,7 @@ impl FrameLoop for OpenXr {
         let Some(pending) = self.pending.take() else {
             return Err(backend("end_frame without begin_frame"));
         };
-        self.govern_refresh_rate(pending.started);
+        self.govern_refresh_rate(&pending);
         let rendered = pending.acquired && pending.released;
         let area = self.render_rect;
         let session = self
@@ -505,6 +519,12 @@ impl FrameLoop for OpenXr {
 
     fn report_gpu_time(&mut self, gpu: Duration) {
         self.last_gpu = Some(gpu);
+    }
+
+    fn report_cpu_wait(&mut self, waited: Duration) {
+        if let Some(p) = self.pending.as_mut() {
+            p.waited += waited;
+        }
     }
 
     fn governor_caps(&self) -> GovernorCaps {

@@ -1,6 +1,6 @@
 //! Start-up of the Quest extensions, each only when the runtime lists it: fixed foveation on
 //! the colour swapchain (`XR_FB_foveation` + `XR_FB_swapchain_update_state`), the display
-//! refresh rate (`XR_FB_display_refresh_rate`, with the governor of [`super::quest`]) and the
+//! refresh rate (`XR_FB_display_refresh_rate`, with the governor of [`super::refresh`]) and the
 //! CPU/GPU performance levels (`XR_EXT_performance_settings`) and the colour space
 //! (`XR_FB_color_space`: Rec. 709, the gamut of sRGB content, instead of the runtime's
 //! default). A missing or failing extension is logged and skipped: none of them is needed to
@@ -10,7 +10,8 @@ use openxr as xr;
 
 use super::error::check;
 use super::foveation;
-use super::quest::{Foveation, PerfLevel, RefreshGovernor};
+use super::quest::{Foveation, PerfLevel};
+use super::refresh::RefreshGovernor;
 use super::session::Session;
 
 /// What the Quest extensions were started with.
