@@ -80,6 +80,10 @@ fn run(app: AndroidApp) -> Result<(), AppError> {
     drop(frame_loop);
     let report = result?;
     log::info!("{} frames rendered", report.frames);
+    if let Some(sound) = &report.audio {
+        // The under-runs, reopened streams and paused time, in logcat.
+        log::info!("{sound}");
+    }
     for (name, p) in app::timing::TIMINGS.iter().zip(report.times.all()) {
         log::info!(
             "{name:<12} p50 {:>7.3} p95 {:>7.3} p99 {:>7.3} ms",

@@ -76,6 +76,8 @@ pub struct SoundReport {
     /// Seconds the sound was paused (the user away): the device's silence, or for a file the
     /// world's stillness.
     pub paused_s: f64,
+    /// Streams opened again after the device was lost (headphones in or out).
+    pub reopened: u64,
 }
 
 impl std::fmt::Display for SoundReport {
@@ -83,8 +85,8 @@ impl std::fmt::Display for SoundReport {
         write!(
             f,
             "audio ({}): {:.1} s of sound, {} buffers of {} frames, {} under-runs ({} late \
-             wakes), {:.2} % of one core (longest callback {:.2} ms), {} scheduling, paused {:.1} \
-             s",
+             wakes), {:.2} % of one core (longest callback {:.2} ms), {} scheduling, reopened {} \
+             times, paused {:.1} s",
             self.sink,
             self.seconds,
             self.buffers,
@@ -94,6 +96,7 @@ impl std::fmt::Display for SoundReport {
             100.0 * self.load,
             self.worst_ms,
             self.scheduling,
+            self.reopened,
             self.paused_s
         )
     }
@@ -247,6 +250,7 @@ impl Ears {
                     late_wakes: c.late_wakes,
                     scheduling: c.scheduling,
                     paused_s: c.paused_frames as f64 / crate::audio::SAMPLE_RATE as f64,
+                    reopened: c.reopened,
                 }
             }
             Output::File(wav) => {
@@ -264,6 +268,7 @@ impl Ears {
                     late_wakes: 0,
                     scheduling: Scheduling::Unknown,
                     paused_s: self.away_s,
+                    reopened: 0,
                 }
             }
         })

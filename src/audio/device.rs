@@ -4,14 +4,14 @@
 //! the same schedule and drops the samples: the run goes on silent, and its timing (busy
 //! time, late buffers) is still measured.
 
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
-use std::thread::JoinHandle;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
+use super::clock::ClockOutlet;
 use super::engine::{SoundConfig, Soundscape};
 use super::link::{link, CountersSnapshot, FrameSender};
 use super::player::Player;
+use super::reopen::{Keeper, Outlet};
 use super::AudioError;
 
 /// Frames per buffer asked of the device: 10 ms at 48 kHz.
@@ -32,18 +32,9 @@ pub struct AudioOutput {
     sink: Sink,
     buffer_frames: u32,
     started: Instant,
-    _run: Running,
-}
-
-/// What keeps the sound going; dropping it stops it.
-enum Running {
-    #[cfg(feature = "audio-device")]
-    Device {
-        _stream: cpal::Stream,
-    },
-    Clock {
-        _thread: ClockThread,
-    },
+    /// The thread that owns the stream and reopens it when the device is lost; dropping it
+    /// stops the sound.
+    _keeper: Keeper,
 }
 
 impl AudioOutput {
@@ -59,18 +50,34 @@ impl AudioOutput {
         }
     }
 
-    /// The silent clock: the callback on a 10 ms schedule, samples dropped.
+    /// The silent clock: the callback on a device's schedule, samples dropped.
     pub fn clock(config: SoundConfig, buffer_frames: u32) -> Result<Self, AudioError> {
-        let (sender, receiver) = link(config.volume);
-        let player = Player::new(Soundscape::new(config)?, receiver);
         let period = Duration::from_secs_f64(buffer_frames as f64 / config.sample_rate as f64);
-        let thread = ClockThread::start(player, buffer_frames as usize, period)?;
+        let outlet = ClockOutlet {
+            frames: buffer_frames as usize,
+            period,
+        };
+        let mut out = Self::on(config, outlet, buffer_frames)?;
+        out.sink = Sink::Clock;
+        Ok(out)
+    }
+
+    /// Sound through `outlet`'s streams, reopened on its thread whenever one is lost (the
+    /// device's path; a test's outlet injects the loss).
+    pub fn on<O: Outlet>(
+        config: SoundConfig,
+        outlet: O,
+        buffer_frames: u32,
+    ) -> Result<Self, AudioError> {
+        let (sender, receiver) = link(config.volume);
+        let player = Arc::new(Mutex::new(Player::new(Soundscape::new(config)?, receiver)));
+        let (keeper, name) = Keeper::start(outlet, player, sender.counters_arc())?;
         Ok(Self {
             sender,
-            sink: Sink::Clock,
+            sink: Sink::Device(name),
             buffer_frames,
             started: Instant::now(),
-            _run: Running::Clock { _thread: thread },
+            _keeper: keeper,
         })
     }
 
@@ -83,75 +90,10 @@ impl AudioOutput {
 
     #[cfg(feature = "audio-device")]
     fn device(config: SoundConfig) -> Result<Self, AudioError> {
-        // ALSA reports a missing card on stderr itself, eight lines of it; the one warning
-        // that matters is ours.
-        quiet_alsa::while_opening(|| Self::open_device(config))
-    }
-
-    #[cfg(feature = "audio-device")]
-    fn open_device(config: SoundConfig) -> Result<Self, AudioError> {
-        use cpal::traits::{DeviceTrait, HostTrait, StreamTrait};
-
-        let fail =
-            |what: &str, e: &dyn std::fmt::Display| AudioError::Device(format!("{what}: {e}"));
-        let host = cpal::default_host();
-        let device = host
-            .default_output_device()
-            .ok_or_else(|| AudioError::Device("no audio output device".into()))?;
-        let name = device
-            .description()
-            .map(|d| d.to_string())
-            .unwrap_or_else(|_| "default".into());
-        let default = device
-            .default_output_config()
-            .map_err(|e| fail("the device's output format", &e))?;
-        let channels = default.channels();
-        let stream_config = cpal::StreamConfig {
-            channels,
+        let outlet = cpal_outlet::DefaultDevice {
             sample_rate: config.sample_rate,
-            buffer_size: cpal::BufferSize::Fixed(BUFFER_FRAMES),
         };
-        let (sender, receiver) = link(config.volume);
-        let mut player = Player::new(Soundscape::new(config)?, receiver);
-        let counters = sender.counters_arc();
-        let errors = move |e: cpal::Error| {
-            if e.kind() == cpal::ErrorKind::Xrun {
-                counters.underruns.fetch_add(1, Ordering::Relaxed);
-            } else {
-                log::warn!("audio device: {e}");
-            }
-        };
-        let ch = channels as usize;
-        let stream = match default.sample_format() {
-            cpal::SampleFormat::F32 => device.build_output_stream(
-                stream_config,
-                move |out: &mut [f32], _| player.fill(out, ch, |x| x),
-                errors,
-                None,
-            ),
-            cpal::SampleFormat::I16 => device.build_output_stream(
-                stream_config,
-                move |out: &mut [i16], _| {
-                    player.fill(out, ch, |x| (x * i16::MAX as f32).round() as i16)
-                },
-                errors,
-                None,
-            ),
-            other => {
-                return Err(AudioError::Device(format!(
-                    "the device wants {other} samples (f32 or i16 supported)"
-                )))
-            }
-        }
-        .map_err(|e| fail("opening the output stream", &e))?;
-        stream.play().map_err(|e| fail("starting the output", &e))?;
-        Ok(Self {
-            sender,
-            sink: Sink::Device(name),
-            buffer_frames: BUFFER_FRAMES,
-            started: Instant::now(),
-            _run: Running::Device { _stream: stream },
-        })
+        Self::on(config, outlet, BUFFER_FRAMES)
     }
 
     /// The frame thread's end of the link: publish frames and splashes here.
@@ -175,6 +117,111 @@ impl AudioOutput {
             self.sender.counters().snapshot(),
             self.started.elapsed().as_secs_f64(),
         )
+    }
+}
+
+/// The machine's default output through cpal, opened again (the default may have changed:
+/// headphones plugged in) after each loss.
+#[cfg(feature = "audio-device")]
+mod cpal_outlet {
+    use std::sync::atomic::Ordering;
+
+    use cpal::traits::{DeviceTrait, HostTrait, StreamTrait};
+
+    use super::super::reopen::{fill_shared, LossReporter, Outlet, SharedPlayer};
+    use super::super::AudioError;
+    use super::{quiet_alsa, BUFFER_FRAMES};
+
+    /// The default device at this rate.
+    pub struct DefaultDevice {
+        pub sample_rate: u32,
+    }
+
+    impl Outlet for DefaultDevice {
+        type Stream = cpal::Stream;
+
+        fn open(
+            &mut self,
+            player: &SharedPlayer,
+            loss: LossReporter,
+        ) -> Result<(cpal::Stream, String), AudioError> {
+            // ALSA reports a missing card on stderr itself, eight lines of it; the one warning
+            // that matters is ours.
+            quiet_alsa::while_opening(|| self.open_default(player, loss))
+        }
+    }
+
+    impl DefaultDevice {
+        fn open_default(
+            &self,
+            player: &SharedPlayer,
+            loss: LossReporter,
+        ) -> Result<(cpal::Stream, String), AudioError> {
+            let fail =
+                |what: &str, e: &dyn std::fmt::Display| AudioError::Device(format!("{what}: {e}"));
+            let host = cpal::default_host();
+            let device = host
+                .default_output_device()
+                .ok_or_else(|| AudioError::Device("no audio output device".into()))?;
+            let name = device
+                .description()
+                .map(|d| d.to_string())
+                .unwrap_or_else(|_| "default".into());
+            let default = device
+                .default_output_config()
+                .map_err(|e| fail("the device's output format", &e))?;
+            let channels = default.channels();
+            let stream_config = cpal::StreamConfig {
+                channels,
+                sample_rate: self.sample_rate,
+                buffer_size: cpal::BufferSize::Fixed(BUFFER_FRAMES),
+            };
+            let counters = player
+                .lock()
+                .map_err(|_| AudioError::Device("the sound's player failed earlier".into()))?
+                .counters_arc();
+            let errors = move |e: cpal::Error| match e.kind() {
+                cpal::ErrorKind::Xrun => {
+                    counters.underruns.fetch_add(1, Ordering::Relaxed);
+                }
+                // Gone (unplugged, the route closed): closed and reopened on the keeper's
+                // thread, not here.
+                cpal::ErrorKind::DeviceNotAvailable | cpal::ErrorKind::StreamInvalidated => {
+                    loss.lost(e.to_string())
+                }
+                // Android without the low-latency path: the report says "platform's".
+                cpal::ErrorKind::RealtimeDenied => {
+                    log::info!("audio: the device did not grant its low-latency path ({e})")
+                }
+                _ => log::warn!("audio device: {e}"),
+            };
+            let ch = channels as usize;
+            let p = player.clone();
+            let stream = match default.sample_format() {
+                cpal::SampleFormat::F32 => device.build_output_stream(
+                    stream_config,
+                    move |out: &mut [f32], _| fill_shared(&p, out, ch, |x| x),
+                    errors,
+                    None,
+                ),
+                cpal::SampleFormat::I16 => device.build_output_stream(
+                    stream_config,
+                    move |out: &mut [i16], _| {
+                        fill_shared(&p, out, ch, |x| (x * i16::MAX as f32).round() as i16)
+                    },
+                    errors,
+                    None,
+                ),
+                other => {
+                    return Err(AudioError::Device(format!(
+                        "the device wants {other} samples (f32 or i16 supported)"
+                    )))
+                }
+            }
+            .map_err(|e| fail("opening the output stream", &e))?;
+            stream.play().map_err(|e| fail("starting the output", &e))?;
+            Ok((stream, name))
+        }
     }
 }
 
@@ -224,63 +271,5 @@ mod quiet_alsa {
     #[cfg(not(target_os = "linux"))]
     pub fn while_opening<R>(f: impl FnOnce() -> R) -> R {
         f()
-    }
-}
-
-/// The thread that stands in for a device: renders each buffer one period ahead of when a
-/// device would play it and counts the buffers finished after that time as under-runs (and,
-/// of those, the ones whose rendering took under half a period as late wakes).
-struct ClockThread {
-    stop: Arc<AtomicBool>,
-    handle: Option<JoinHandle<()>>,
-}
-
-impl ClockThread {
-    fn start(mut player: Player, frames: usize, period: Duration) -> Result<Self, AudioError> {
-        let stop = Arc::new(AtomicBool::new(false));
-        let flag = stop.clone();
-        let handle = std::thread::Builder::new()
-            .name("vr-ocean-audio".into())
-            .spawn(move || {
-                let mut buffer = vec![0.0f32; 2 * frames];
-                let start = Instant::now();
-                let mut k: u32 = 1;
-                while !flag.load(Ordering::Relaxed) {
-                    // Buffer k plays at start + k·period; it is asked for a period before.
-                    let asked = start + period * (k - 1);
-                    if let Some(wait) = asked.checked_duration_since(Instant::now()) {
-                        std::thread::sleep(wait);
-                    }
-                    let woke = Instant::now();
-                    player.fill(&mut buffer, 2, |x| x);
-                    let now = Instant::now();
-                    if now > start + period * k {
-                        let c = player.counters();
-                        c.underruns.fetch_add(1, Ordering::Relaxed);
-                        if now.duration_since(woke) < period / 2 {
-                            // The work fitted; the thread got its core too late.
-                            c.late_wakes.fetch_add(1, Ordering::Relaxed);
-                        }
-                        // A device that ran dry starts again from now, as this does.
-                        let behind = now.duration_since(start).as_secs_f64();
-                        k = k.max((behind / period.as_secs_f64()).ceil() as u32);
-                    }
-                    k += 1;
-                }
-            })
-            .map_err(|e| AudioError::Device(format!("cannot start the audio thread: {e}")))?;
-        Ok(Self {
-            stop,
-            handle: Some(handle),
-        })
-    }
-}
-
-impl Drop for ClockThread {
-    fn drop(&mut self) {
-        self.stop.store(true, Ordering::Relaxed);
-        if let Some(h) = self.handle.take() {
-            let _ = h.join();
-        }
     }
 }

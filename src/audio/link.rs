@@ -39,6 +39,8 @@ pub struct Counters {
     pub scheduling: AtomicU8,
     /// Frames the callback gave as silence because the app was paused (the user away).
     pub paused_frames: AtomicU64,
+    /// Streams opened again after the device was lost (headphones plugged in or out).
+    pub reopened: AtomicU64,
 }
 
 /// The scheduling the audio thread asked for and got (see `player::promote_this_thread`).
@@ -51,7 +53,7 @@ pub enum Scheduling {
     RealTime,
     /// A raised nice value: favoured, but it can wait behind other threads.
     Raised,
-    /// As the platform started it (on Android AAudio's thread, real-time already).
+    /// As the platform started it (on Android: an AAudio thread without the low-latency path).
     Platform,
 }
 
@@ -108,6 +110,8 @@ pub struct CountersSnapshot {
     pub scheduling: Scheduling,
     /// Frames given as silence while paused.
     pub paused_frames: u64,
+    /// Streams reopened after a lost device.
+    pub reopened: u64,
 }
 
 impl Counters {
@@ -123,6 +127,7 @@ impl Counters {
             late_wakes: self.late_wakes.load(Ordering::Relaxed),
             scheduling: Scheduling::from_u8(self.scheduling.load(Ordering::Relaxed)),
             paused_frames: self.paused_frames.load(Ordering::Relaxed),
+            reopened: self.reopened.load(Ordering::Relaxed),
         }
     }
 }
@@ -277,6 +282,11 @@ impl FrameReceiver {
     /// The counters this end updates.
     pub fn counters(&self) -> &Counters {
         &self.shared.counters
+    }
+
+    /// The counters, to be held elsewhere (the clock's thread, the reopening thread).
+    pub fn counters_arc(&self) -> Arc<Counters> {
+        self.shared.counters.clone()
     }
 }
 

@@ -19,15 +19,19 @@
 //! | `engine.rs` | voices placed and mixed, the limiter |
 //! | `link.rs` | frame thread → audio thread, lock-free |
 //! | `player.rs` | the callback's work |
-//! | `device.rs` | cpal, or the silent clock |
+//! | `device.rs` | the output: cpal's default device, or the silent clock |
+//! | `reopen.rs` | the thread that owns the stream and reopens it after a lost device |
+//! | `clock.rs` | the silent clock that stands in for a missing device |
 //! | `wav.rs` | `--audio-out` |
 //! | `measure.rs` | power, centroid, onsets of rendered sound (tests, benchmark) |
 //!
-//! Invariants: the audio callback never allocates, locks, blocks or does I/O
-//! (`tests/audio_no_alloc.rs`); the same seed, frames and splashes render the same samples;
+//! Invariants: the audio callback never allocates, blocks or does I/O
+//! (`tests/audio_no_alloc.rs`; its one lock is a `try_lock` that no one else holds while a
+//! stream plays); a stream is opened and closed on the keeper's thread, never in a callback; the same seed, frames and splashes render the same samples;
 //! no sample leaves louder than [`engine::CEILING`]; a missing device is one warning and a
 //! silent run. `audio` reads `sim` and `base` only (`tests/tidy.rs`).
 
+pub mod clock;
 pub mod device;
 pub mod dsp;
 pub mod engine;
@@ -35,6 +39,7 @@ pub mod link;
 pub mod listen;
 pub mod measure;
 pub mod player;
+pub mod reopen;
 pub mod scene;
 pub mod spatial;
 pub mod voices;

@@ -114,12 +114,23 @@ impl Player {
     pub fn counters(&self) -> &super::link::Counters {
         self.link.counters()
     }
+
+    /// The counters, to be held by the thread that runs this player.
+    pub fn counters_arc(&self) -> std::sync::Arc<super::link::Counters> {
+        self.link.counters_arc()
+    }
+
+    /// Called when a new stream (a new thread) takes the player over: that thread asks for
+    /// its scheduling at its first buffer.
+    pub fn rebind(&mut self) {
+        self.promoted = false;
+    }
 }
 
 /// Asks the scheduler to run the calling thread as a real-time one (SCHED_FIFO, priority 10,
 /// as audio servers do), or failing that at nice −10; without the privilege it stays as it
-/// is. Linux only (not Android): AAudio's callback thread on the Quest is real-time already. Nothing
-/// is logged (this runs on the audio thread); what it got goes to the report.
+/// is. Linux only (Android has its own below). Nothing is logged (this runs on the audio
+/// thread); what it got goes to the report.
 #[cfg(target_os = "linux")]
 pub fn promote_this_thread() -> Scheduling {
     let param = libc::sched_param { sched_priority: 10 };
@@ -137,8 +148,21 @@ pub fn promote_this_thread() -> Scheduling {
     }
 }
 
+/// On Android the platform schedules AAudio's callback thread: SCHED_FIFO when the stream got
+/// the low-latency path (asked for through cpal's `realtime` feature), else an ordinary
+/// thread. Reports which; an app may not change it.
+#[cfg(target_os = "android")]
+pub fn promote_this_thread() -> Scheduling {
+    // SAFETY: pid 0 is the calling thread; the call only reads its policy.
+    if unsafe { libc::sched_getscheduler(0) } == libc::SCHED_FIFO {
+        Scheduling::RealTime
+    } else {
+        Scheduling::Platform
+    }
+}
+
 /// Elsewhere the platform's audio thread keeps its own priority.
-#[cfg(not(target_os = "linux"))]
+#[cfg(not(any(target_os = "linux", target_os = "android")))]
 pub fn promote_this_thread() -> Scheduling {
     Scheduling::Platform
 }
