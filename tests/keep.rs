@@ -1,6 +1,7 @@
 //! Issue 44, item 2: what the user chose is kept whenever it may be the last chance: once a
-//! change has settled ([`app::KEEP_AFTER`]) and at the end of a run that ended in an error (a
-//! lost runtime), not only after a clean end. Headless frames on lavapipe with the validation
+//! change has settled ([`app::KEEP_AFTER`]), at once when the app pauses (before STOPPING and
+//! `onStop`), and at the end of a run that ended in an error (a lost runtime), not only after
+//! a clean end. Headless frames on lavapipe with the validation
 //! layer; the backend injects a wind change, then fails.
 
 mod common;
@@ -27,6 +28,15 @@ impl RunHooks for Kept {
 }
 
 fn lost_after(fail_after: Duration, hooks: &mut dyn RunHooks) -> (f32, String) {
+    lost_after_pausing(fail_after, None, hooks)
+}
+
+/// As [`lost_after`], the app paused (the focus lost) from frame `pause_from` on.
+fn lost_after_pausing(
+    fail_after: Duration,
+    pause_from: Option<u64>,
+    hooks: &mut dyn RunHooks,
+) -> (f32, String) {
     let inner = HeadlessXr::new(
         &gpu::validated(),
         EyeSize::new(32, 32).unwrap(),
@@ -45,6 +55,7 @@ fn lost_after(fail_after: Duration, hooks: &mut dyn RunHooks) -> (f32, String) {
                 s.tweaks[0] = Some(Tweak::WindSpeed(3.0));
                 changed_at = Some(Instant::now());
             }
+            s.paused |= pause_from.is_some_and(|f| s.index >= f);
             let waited = changed_at.is_some_and(|t| t.elapsed() >= fail_after);
             if waited || s.index >= 2000 {
                 return Err(XrError::Backend("the runtime was lost (test)".into()));
@@ -62,16 +73,35 @@ fn lost_after(fail_after: Duration, hooks: &mut dyn RunHooks) -> (f32, String) {
 
 #[test]
 fn a_settled_change_is_kept_and_a_lost_runtime_keeps_the_last_word() {
-    // Lost before the change settled: kept once, at the end, with the new wind.
+    // Lost before the change settled: the start's word, then the new wind once, at the end.
     let mut quick = Kept::default();
     let (wind, err) = lost_after(Duration::from_millis(100), &mut quick);
     assert!(err.contains("runtime was lost"), "{err}");
-    assert_eq!(quick.0, vec![wind + 3.0], "kept {:?}", quick.0);
+    assert_eq!(quick.0, vec![wind, wind + 3.0], "kept {:?}", quick.0);
 
     // Lost well after it settled: kept when it settled, and again at the end.
     let mut late = Kept::default();
     lost_after(app::KEEP_AFTER * 3, &mut late);
-    assert_eq!(late.0, vec![wind + 3.0, wind + 3.0], "kept {:?}", late.0);
+    assert_eq!(
+        late.0,
+        vec![wind, wind + 3.0, wind + 3.0],
+        "kept {:?}",
+        late.0
+    );
+}
+
+#[test]
+fn a_change_is_kept_at_once_when_the_app_pauses() {
+    // Paused two frames after the change, lost 100 ms later: kept at the pause (before the
+    // change settled) and at the end. Without the pause's save only the end would keep it.
+    let mut paused = Kept::default();
+    let (wind, _) = lost_after_pausing(Duration::from_millis(100), Some(4), &mut paused);
+    assert_eq!(
+        paused.0,
+        vec![wind, wind + 3.0, wind + 3.0],
+        "kept {:?}",
+        paused.0
+    );
 }
 
 #[test]
@@ -81,7 +111,8 @@ fn the_settings_keeper_saves_what_a_lost_run_chose() {
     let file = SettingsFile::at(dir.join("settings.json"));
     let mut keeper = SettingsKeeper::new(Some(&file), 0.5, true);
     let (wind, _) = lost_after(Duration::from_millis(100), &mut keeper);
-    assert_eq!(keeper.saves(), 1);
+    // The start's word (no file yet) and the end's; the file then holds the last.
+    assert_eq!(keeper.saves(), 2);
     let loaded = file.load();
     assert!(loaded.warning.is_none(), "{:?}", loaded.warning);
     assert_eq!(loaded.settings.wind_speed, wind + 3.0);

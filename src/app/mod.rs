@@ -139,9 +139,11 @@ pub trait RunHooks {
     /// A frame ended (after [`FrameLoop::end_frame`]). Tests count allocations here.
     fn frame_done(&mut self, _frame: &FrameState) {}
 
-    /// The user's choices, to be kept (`keep::SettingsKeeper` saves them): once they have
-    /// stayed unchanged for [`KEEP_AFTER`] after a change, and at the end of the run however it
-    /// ended (a lost runtime, a device error): a process killed at any moment loses at most
+    /// The user's choices, to be kept (`keep::SettingsKeeper` saves them): at the run's start
+    /// (what the command line chose), once they have stayed unchanged for [`KEEP_AFTER`] after a change; at once when the app pauses (the
+    /// session leaves FOCUSED or the activity gets `onPause`, which come before STOPPING and
+    /// `onStop`, when a Quest may kill the process); and at the end of the run however it
+    /// ended (a lost runtime, a device error). A process killed at any moment loses at most
     /// the last [`KEEP_AFTER`] of changes.
     fn keep(&mut self, _chosen: &live::Chosen) {}
 
@@ -379,7 +381,7 @@ impl<'a> Frames<'a> {
             self.record(&frame, &r, &cost);
             self.govern(&frame, r.gpu_pass)?;
         }
-        self.keep_settled_choices();
+        self.keep_settled_choices(frame.paused);
         if self.stats.shown_at.elapsed().as_secs_f64() >= 0.5 {
             self.stats.shown_at = Instant::now();
             self.stats.recent.summarise(
@@ -412,11 +414,15 @@ impl<'a> Frames<'a> {
         }
     }
 
-    /// Gives the hooks the user's choices once a change has stood for [`KEEP_AFTER`].
-    fn keep_settled_choices(&mut self) {
+    /// Gives the hooks the user's choices once a change has stood for [`KEEP_AFTER`], or at
+    /// once when the app pauses (`paused`: the session left FOCUSED, the activity paused): a
+    /// Quest may stop and kill a paused app, and nothing changes while paused anyway.
+    fn keep_settled_choices(&mut self, paused: bool) {
         let now = self.chosen();
         let Some(kept) = self.kept else {
-            // The run's start: what it began with is not a change.
+            // The run's start: what the command line chose is this run's first word, kept
+            // before any frame can be the last.
+            self.hooks.keep(&now);
             self.kept = Some(now);
             return;
         };
@@ -424,15 +430,17 @@ impl<'a> Frames<'a> {
             self.changed = None;
             return;
         }
-        match self.changed {
-            Some((pending, since)) if pending == now => {
-                if since.elapsed() >= KEEP_AFTER {
-                    self.hooks.keep(&now);
-                    self.kept = Some(now);
-                    self.changed = None;
-                }
+        let settled = match self.changed {
+            Some((pending, since)) if pending == now => since.elapsed() >= KEEP_AFTER,
+            _ => {
+                self.changed = Some((now, Instant::now()));
+                false
             }
-            _ => self.changed = Some((now, Instant::now())),
+        };
+        if settled || paused {
+            self.hooks.keep(&now);
+            self.kept = Some(now);
+            self.changed = None;
         }
     }
 
