@@ -117,6 +117,10 @@ impl FrameLoop for ActivityFrameLoop {
         self.xr.report_cpu_wait(waited);
     }
 
+    fn hand_workers(&mut self, workers: &crate::sim::workers::WorkerThreads) {
+        self.xr.hand_workers(workers);
+    }
+
     fn governor_caps(&self) -> GovernorCaps {
         self.xr.governor_caps()
     }

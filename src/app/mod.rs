@@ -243,6 +243,7 @@ impl<'a> Frames<'a> {
     ) -> Result<Self, AppError> {
         let lod = OceanLod::new(opts.lod);
         let sim = Simulation::new(opts.ocean.clone(), opts.threads)?;
+        xr.hand_workers(sim.workers());
         let afloat = opts.floating.as_ref().map(Afloat::new).transpose()?;
         let ears = sound::Ears::new(&opts.audio)?;
         let mut comfort = opts.comfort;

@@ -353,6 +353,8 @@ pub struct Simulation {
     threads: usize,
     config: OceanConfig,
     pool: Option<rayon::ThreadPool>,
+    /// The pool's threads, by kernel id (for the runtime's thread settings).
+    workers: super::workers::WorkerThreads,
 }
 
 impl Simulation {
@@ -365,11 +367,13 @@ impl Simulation {
                 "at least 1 thread",
             )));
         }
+        let workers = super::workers::WorkerThreads::default();
+        let registry = workers.clone();
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .thread_name(|i| format!("ocean-sim-{i}"))
-            .start_handler(|i| {
-                super::workers::register_worker_thread();
+            .start_handler(move |i| {
+                registry.register_this_thread();
                 // On Android (the Quest) above normal (the OpenXR backend raises the render
                 // thread alike, or hands both to the runtime's thread settings). Desktops keep
                 // the default: there the GPU driver may be CPU threads (lavapipe) that must not
@@ -405,7 +409,13 @@ impl Simulation {
             threads,
             config,
             pool: Some(pool),
+            workers,
         })
+    }
+
+    /// The pool's worker threads (their kernel ids, as they start).
+    pub fn workers(&self) -> &super::workers::WorkerThreads {
+        &self.workers
     }
 
     /// The configuration (waves as last set).

@@ -9,6 +9,7 @@
 
 use std::path::Path;
 use std::sync::atomic::{AtomicU32, AtomicUsize, Ordering};
+use std::sync::Arc;
 
 /// A core counts as a performance core when its maximum clock is at least this share of the
 /// fastest core's (XR2 Gen 1: 2.84/2.42 GHz prime and gold cores, 1.8 GHz silver ones).
@@ -79,13 +80,51 @@ pub fn raise_thread_priority(nice: i32) -> bool {
     }
 }
 
-/// Most simulation worker threads whose ids are kept for [`worker_thread_ids`].
+/// Most simulation worker threads a [`WorkerThreads`] keeps.
 pub const MAX_REGISTERED_WORKERS: usize = 16;
 
-/// Kernel thread ids of the simulation workers, in start order (0 = empty slot).
-static WORKER_TIDS: [AtomicU32; MAX_REGISTERED_WORKERS] =
-    [const { AtomicU32::new(0) }; MAX_REGISTERED_WORKERS];
-static WORKER_COUNT: AtomicUsize = AtomicUsize::new(0);
+/// The kernel thread ids of one simulation's workers, in start order: what the XR backend
+/// hands to the runtime's thread settings. One per [`crate::sim::Simulation`] (not
+/// process-wide: on Android a second `android_main` in the same process starts a new
+/// simulation, whose workers must be handed over, and the first one's dead threads not).
+/// Cloning shares it. No allocation after creation.
+#[derive(Clone, Debug, Default)]
+pub struct WorkerThreads(Arc<Registry>);
+
+#[derive(Debug, Default)]
+struct Registry {
+    /// Thread ids (0 = empty slot).
+    tids: [AtomicU32; MAX_REGISTERED_WORKERS],
+    count: AtomicUsize,
+}
+
+impl WorkerThreads {
+    /// Records the calling thread as one of these workers (the pool's start handler calls
+    /// this). Ids beyond [`MAX_REGISTERED_WORKERS`] are not kept.
+    pub fn register_this_thread(&self) {
+        let Some(tid) = current_thread_id() else {
+            return;
+        };
+        let slot = self.0.count.fetch_add(1, Ordering::Relaxed);
+        if let Some(s) = self.0.tids.get(slot) {
+            s.store(tid, Ordering::Release);
+        }
+    }
+
+    /// The workers' thread ids recorded so far, from the `from`-th on (a caller keeps how many
+    /// it has handled). No allocation.
+    pub fn ids(&self, from: usize) -> impl Iterator<Item = u32> + '_ {
+        let n = self
+            .0
+            .count
+            .load(Ordering::Relaxed)
+            .min(MAX_REGISTERED_WORKERS);
+        self.0.tids[from.min(n)..n]
+            .iter()
+            .map(|t| t.load(Ordering::Acquire))
+            .take_while(|&t| t != 0)
+    }
+}
 
 /// The calling thread's kernel thread id (`gettid`), where the platform has one (Linux,
 /// Android); what `XR_KHR_android_thread_settings` takes.
@@ -103,48 +142,28 @@ pub fn current_thread_id() -> Option<u32> {
     None
 }
 
-/// Records the calling thread as a simulation worker (its start handler calls this), so the
-/// XR backend can hand it to the runtime's thread settings. No allocation; ids beyond
-/// [`MAX_REGISTERED_WORKERS`] are not kept.
-pub fn register_worker_thread() {
-    let Some(tid) = current_thread_id() else {
-        return;
-    };
-    let slot = WORKER_COUNT.fetch_add(1, Ordering::Relaxed);
-    if let Some(s) = WORKER_TIDS.get(slot) {
-        s.store(tid, Ordering::Release);
-    }
-}
-
-/// The simulation workers' thread ids recorded so far, from the `from`-th on (a caller keeps
-/// how many it has handled). No allocation.
-pub fn worker_thread_ids(from: usize) -> impl Iterator<Item = u32> {
-    let n = WORKER_COUNT
-        .load(Ordering::Relaxed)
-        .min(MAX_REGISTERED_WORKERS);
-    WORKER_TIDS[from.min(n)..n]
-        .iter()
-        .map(|t| t.load(Ordering::Acquire))
-        .take_while(|&t| t != 0)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn worker_threads_are_recorded_by_kernel_id() {
-        let before = WORKER_COUNT.load(Ordering::Relaxed);
-        let tid = std::thread::spawn(|| {
-            register_worker_thread();
+    fn worker_threads_are_recorded_by_kernel_id_per_registry() {
+        let first = WorkerThreads::default();
+        let w = first.clone();
+        let tid = std::thread::spawn(move || {
+            w.register_this_thread();
             current_thread_id()
         })
         .join()
         .unwrap();
+        // A second simulation's registry starts empty: the first one's threads are not its.
+        let second = WorkerThreads::default();
         if cfg!(any(target_os = "linux", target_os = "android")) {
             let tid = tid.expect("gettid");
             assert_ne!(Some(tid), current_thread_id(), "another thread's id");
-            assert!(worker_thread_ids(before).any(|t| t == tid));
+            assert_eq!(first.ids(0).collect::<Vec<_>>(), [tid]);
+            assert_eq!(first.ids(1).count(), 0);
+            assert_eq!(second.ids(0).count(), 0);
         }
     }
 

@@ -162,6 +162,10 @@ pub trait FrameLoop {
     /// from the frame's CPU cost: a wait is not work.
     fn report_cpu_wait(&mut self, _waited: std::time::Duration) {}
 
+    /// This run's simulation workers, for a backend that tells the runtime which threads are
+    /// which (OpenXR's `XR_KHR_android_thread_settings`); others ignore them.
+    fn hand_workers(&mut self, _workers: &crate::sim::workers::WorkerThreads) {}
+
     /// What the GPU-time governor ([`gpu_governor`]) may change through this backend (the
     /// levels it cannot are skipped). Default: nothing.
     fn governor_caps(&self) -> gpu_governor::GovernorCaps {

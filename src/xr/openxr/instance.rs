@@ -61,6 +61,10 @@ pub(super) fn create_instance(
     enabled.fb_touch_controller_pro = available.fb_touch_controller_pro;
     // The colour gamut of sRGB content set explicitly (Rec. 709).
     enabled.fb_color_space = available.fb_color_space;
+    // The panel's text filtered by the compositor (`layers::panel_filter`).
+    enabled.fb_composition_layer_settings = available.fb_composition_layer_settings;
+    enabled.meta_automatic_layer_filter =
+        available.fb_composition_layer_settings && available.meta_automatic_layer_filter;
     #[cfg(target_os = "android")]
     if android {
         if !available.khr_android_create_instance {
@@ -94,6 +98,14 @@ pub(super) fn create_instance(
             enabled.fb_touch_controller_pro,
         ),
         ("XR_FB_color_space", enabled.fb_color_space),
+        (
+            "XR_FB_composition_layer_settings",
+            enabled.fb_composition_layer_settings,
+        ),
+        (
+            "XR_META_automatic_layer_filter",
+            enabled.meta_automatic_layer_filter,
+        ),
         (
             "XR_EXT_performance_settings",
             enabled.ext_performance_settings,

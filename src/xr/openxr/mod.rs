@@ -493,7 +493,16 @@ impl FrameLoop for OpenXr {
             .expect("the session exists until drop");
         let quad = self.panel.layer().filter(|_| rendered);
         let with_quad = quad.is_some();
-        match layers::end_frame(session, pending.time, &pending.views, area, rendered, quad) {
+        let filter = layers::panel_filter(self.instance.exts());
+        match layers::end_frame(
+            session,
+            pending.time,
+            &pending.views,
+            area,
+            rendered,
+            quad,
+            filter,
+        ) {
             Ok(()) => {}
             Err(xr::sys::Result::ERROR_SESSION_NOT_RUNNING) => return Ok(()),
             Err(e) => return Err(CallError::new("xrEndFrame", e).into()),
@@ -519,6 +528,10 @@ impl FrameLoop for OpenXr {
 
     fn report_gpu_time(&mut self, gpu: Duration) {
         self.last_gpu = Some(gpu);
+    }
+
+    fn hand_workers(&mut self, workers: &crate::sim::workers::WorkerThreads) {
+        self.threads.hand_workers(workers);
     }
 
     fn report_cpu_wait(&mut self, waited: Duration) {

@@ -14,7 +14,9 @@ use crate::sim::workers;
 pub(super) struct ThreadSettings {
     /// Whether the runtime takes thread hints.
     hints: bool,
-    /// Simulation workers already handed over.
+    /// This run's simulation workers (none until the app hands them over).
+    workers: Option<workers::WorkerThreads>,
+    /// Of those, the ones already handed to the runtime.
     workers_done: usize,
 }
 
@@ -43,12 +45,18 @@ impl ThreadSettings {
         this
     }
 
+    /// The run's simulation workers, handed to the runtime as they start ([`Self::poll`]).
+    pub fn hand_workers(&mut self, workers: &workers::WorkerThreads) {
+        self.workers = Some(workers.clone());
+        self.workers_done = 0;
+    }
+
     /// Hands simulation workers started since the last call to the runtime (no allocation).
     pub fn poll(&mut self, instance: &xr::Instance, session: &xr::Session<xr::Vulkan>) {
-        if !self.hints {
+        let Some(w) = self.workers.as_ref().filter(|_| self.hints) else {
             return;
-        }
-        for tid in workers::worker_thread_ids(self.workers_done) {
+        };
+        for tid in w.ids(self.workers_done) {
             set(instance, session, tid, Role::Worker);
             self.workers_done += 1;
         }
