@@ -9,6 +9,7 @@ pub mod keep;
 pub mod live;
 mod panel;
 pub mod report;
+pub mod scripted;
 pub mod sound;
 pub mod timing;
 mod tweaks;

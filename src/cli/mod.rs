@@ -9,6 +9,7 @@ pub mod budget;
 pub mod calibrate;
 pub mod report;
 pub mod settings;
+pub mod soak;
 pub mod tools;
 pub mod view;
 

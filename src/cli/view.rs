@@ -7,6 +7,7 @@ use clap::{Args, Parser, ValueEnum};
 use super::args::{preset, OnOff, ViewArgs};
 use super::report::{self, ValidationWatch};
 use super::settings;
+use super::soak;
 use super::CmdResult;
 use vr_ocean::app::{self, DeckPlacement, FloatOptions, FrameTimes};
 use vr_ocean::base::ParamError;
@@ -143,6 +144,11 @@ pub struct XrArgs {
     /// reprojection uses it (PC runtimes); off: depth stays transient.
     #[arg(long)]
     pub submit_depth: bool,
+    /// A soak: this many minutes played by a scripted user (sea state, throws, the panel,
+    /// presets), through new sessions when one is lost; prints memory and open files once a
+    /// minute (`cargo xtask soak`).
+    #[arg(long)]
+    pub soak_minutes: Option<f64>,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -413,7 +419,7 @@ pub fn xr_cmd(mut a: XrArgs) -> CmdResult {
         PerfArg::SustainedHigh => PerfLevel::SustainedHigh,
         PerfArg::Boost => PerfLevel::Boost,
     };
-    let mut xr = OpenXr::new(OpenXrOptions {
+    let xr_options = OpenXrOptions {
         frames: a.frames,
         resolution_scale: a.resolution_scale,
         validation: a.view.context().validation,
@@ -428,7 +434,19 @@ pub fn xr_cmd(mut a: XrArgs) -> CmdResult {
         deck_height: a.deck_height,
         preset: Some(preset(a.view.preset)),
         submit_depth: a.submit_depth,
-    })?;
+    };
+    if let Some(minutes) = a.soak_minutes {
+        let mut keeper = settings::keeper(kept.as_ref(), &a.view);
+        let view = &a.view;
+        let mut open = |opts: &mut app::RunOptions| {
+            let xr = OpenXr::new(xr_options.clone())?;
+            view.resolve_msaa(opts, xr.gpu());
+            Ok(xr)
+        };
+        openxr::install_exit_signal_handler();
+        return soak::soak(minutes, &mut open, &mut opts, &mut keeper);
+    }
+    let mut xr = OpenXr::new(xr_options)?;
     openxr::install_exit_signal_handler();
     a.view.resolve_msaa(&mut opts, xr.gpu());
     let extent = xr.targets().extent;

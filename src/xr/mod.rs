@@ -109,6 +109,21 @@ pub enum XrError {
     Backend(String),
     /// An OpenXR call failed (its name and result code; losing the runtime is worded there).
     OpenXr(openxr::CallError),
+    /// The runtime said the session or the instance is going away (`LOSS_PENDING`, instance
+    /// loss pending): this one is over; a new instance may work once the runtime is back.
+    Lost(&'static str),
+}
+
+impl XrError {
+    /// Whether the session or the runtime went away (rather than something being wrong): a
+    /// caller that outlives sessions may create a new instance later.
+    pub fn is_lost(&self) -> bool {
+        match self {
+            XrError::Lost(_) => true,
+            XrError::OpenXr(e) => e.runtime_lost() || e.session_lost(),
+            _ => false,
+        }
+    }
 }
 
 impl std::fmt::Display for XrError {
@@ -117,6 +132,7 @@ impl std::fmt::Display for XrError {
             XrError::Render(e) => e.fmt(f),
             XrError::Backend(e) => f.write_str(e),
             XrError::OpenXr(e) => e.fmt(f),
+            XrError::Lost(e) => f.write_str(e),
         }
     }
 }

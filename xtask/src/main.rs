@@ -224,7 +224,7 @@ const STEPS: &[Step] = &[
     },
     Step {
         name: "openxr (Monado)",
-        header: "OpenXR tests against Monado (trixie chroot, null compositor, simulated HMD; needs root), and anisotropic filtering and the headsets' specular AA on its Mesa 25 lavapipe",
+        header: "OpenXR tests against Monado (trixie chroot, null compositor, simulated HMD; needs root), a 3-minute soak, and anisotropic filtering and the headsets' specular AA on its Mesa 25 lavapipe",
         run: Run::Cargo(&[
             "test",
             "--test",
@@ -235,6 +235,8 @@ const STEPS: &[Step] = &[
             "render_anisotropy",
             "--test",
             "render_aliasing",
+            "--test",
+            "soak",
             "--",
             "--ignored",
             "--nocapture",
@@ -330,6 +332,13 @@ commands:
         once from Debian trixie's Mesa source (about 3 minutes) and restored from
         turnip.tar.zst there afterwards. `vr-ocean gpu-budget` reads the Adreno 650's
         and 740's shader statistics through it (VR_OCEAN_TURNIP or --turnip).
+  soak [MINUTES]
+        As root: the soak of issue 44 on Monado (default 20 minutes): `vr-ocean xr
+        --soak-minutes` played by its scripted user while the test takes the focus
+        away twice and kills the runtime once; prints the memory, open files,
+        validation and under-run numbers and fails when they grow. Runs
+          VR_OCEAN_SOAK_MINUTES=MINUTES cargo test --test soak -- --ignored --nocapture
+        with the Monado root (see monado-root).
   monado-root
         As root: makes sure the Debian trixie chroot with Monado exists, then prints its
         path (alone on stdout). It is $VR_OCEAN_CACHE/monado-trixie (default cache dir
@@ -372,6 +381,7 @@ fn main() -> ExitCode {
         "shaders" if rest.is_empty() => cmd_shaders(),
         "shaders" => Err(Failure::Usage("shaders takes no arguments".into())),
         "bench" => parse_bench_args(rest).and_then(|opts| cmd_bench(&opts)),
+        "soak" => cmd_soak(rest),
         "monado-root" if rest.is_empty() => monado::ensure_root().map(|root| {
             println!("{}", root.display());
         }),
@@ -691,6 +701,33 @@ fn cmd_bench(opts: &BenchOpts) -> Result<()> {
         run_checked(&mut cmd)?;
     }
     Ok(())
+}
+
+/// `cargo xtask soak [MINUTES]`: the soak test on Monado for MINUTES (default 20).
+fn cmd_soak(rest: &[String]) -> Result<()> {
+    let minutes = match rest {
+        [] => 20.0,
+        [m] => match m.parse::<f64>() {
+            Ok(v) if v > 0.0 && v <= 24.0 * 60.0 => v,
+            _ => {
+                return Err(Failure::Usage(format!(
+                    "soak: {m:?} is not a number of minutes in (0, 1440]"
+                )))
+            }
+        },
+        _ => {
+            return Err(Failure::Usage(
+                "soak takes at most one argument, MINUTES".into(),
+            ))
+        }
+    };
+    let env = monado::prepare_step()?;
+    let mut cmd = cargo();
+    cmd.args(["test", "--test", "soak", "--", "--ignored", "--nocapture"])
+        .envs(env)
+        .env("VR_OCEAN_SOAK_MINUTES", minutes.to_string())
+        .current_dir(workspace_root());
+    run_checked(&mut cmd)
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -24,6 +24,11 @@ impl CallError {
     pub fn runtime_lost(&self) -> bool {
         self.result == xr::sys::Result::ERROR_INSTANCE_LOST
     }
+
+    /// Whether the session was lost (`XR_ERROR_SESSION_LOST`): the instance may make another.
+    pub fn session_lost(&self) -> bool {
+        self.result == xr::sys::Result::ERROR_SESSION_LOST
+    }
 }
 
 impl std::fmt::Display for CallError {

@@ -11,7 +11,7 @@ use openxr as xr;
 use super::error::{check, Call, CallError};
 use super::input::InputFrame;
 use super::lifecycle::{self, Action, Event, ExitReason};
-use super::{backend, FramePoll, OpenXr, Pending, EXIT_SIGNAL, LOCAL_EYE_HEIGHT};
+use super::{FramePoll, OpenXr, Pending, EXIT_SIGNAL, LOCAL_EYE_HEIGHT};
 use crate::base::{EyeView, Fov};
 use crate::physics::{HandInput, Pose};
 use crate::ui::panel::PointerEvent;
@@ -35,7 +35,7 @@ impl OpenXr {
                 return if reason.is_clean() {
                     Ok(FramePoll::Done)
                 } else {
-                    Err(backend(match reason {
+                    Err(XrError::Lost(match reason {
                         ExitReason::SessionLost => {
                             "the OpenXR session was lost (LOSS_PENDING): the headset was \
                              disconnected or the runtime stopped it"
