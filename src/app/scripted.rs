@@ -2,7 +2,9 @@
 //! frame loop and, on a one-minute cycle of the session's display time, does what a person at
 //! play does: raises and lowers the sea state, throws crates, launches a boat, opens the panel
 //! and presses its Beaufort, spawn and reset buttons and drags its wind slider, cycles the
-//! preset, moves the sun, turns the wind. Only while the app is not paused (input is ignored
+//! preset, moves the sun, turns the wind, then puts the preset back. Every second cycle ends
+//! where the first began (the sea state, wind, sun and preset back, the bodies reset), so a
+//! soak compares memory at like states. Only while the app is not paused (input is ignored
 //! then anyway). Once a minute of wall time it samples the process's resident memory and open
 //! file descriptors ([`ResourceSample`]), so a soak can show they stay flat.
 //!
@@ -10,6 +12,7 @@
 
 use std::time::{Duration, Instant};
 
+use crate::lod::QualityPreset;
 use crate::render::{GpuContext, TargetImages};
 use crate::ui::panel::{Comfort, Panel, PointerEvent, Widgets};
 use crate::xr::gpu_governor::{GovernorCaps, GovernorState};
@@ -66,12 +69,15 @@ enum Act {
     Pointer(PointerEvent),
     /// Aim at a fraction across and down a widget of the panel.
     Aim(fn(&Widgets, u32) -> [f32; 4], f32, f32),
+    /// Back to the run's preset.
+    HomePreset,
 }
 
 /// What happens at each second of the cycle (`cycle` counts cycles: alternating directions).
 fn acts_at(second: i64, cycle: u32) -> [Option<Act>; 2] {
     let sign = if cycle.is_multiple_of(2) { 1.0 } else { -1.0 };
-    let beaufort = |w: &Widgets, cycle: u32| w.beaufort[2 + (cycle as usize * 3) % 7];
+    let beaufort =
+        |w: &Widgets, cycle: u32| w.beaufort[if cycle.is_multiple_of(2) { 6 } else { 3 }];
     let wind = |w: &Widgets, _| w.wind;
     let spawn = |w: &Widgets, _| w.spawn;
     let reset = |w: &Widgets, _| w.reset;
@@ -116,6 +122,7 @@ fn acts_at(second: i64, cycle: u32) -> [Option<Act>; 2] {
             azimuth: 10.0,
         })),
         48 => one(Act::Tweak(Tweak::WindDirection(25.0 * sign))),
+        52 => one(Act::HomePreset),
         _ => [None, None],
     }
 }
@@ -123,6 +130,8 @@ fn acts_at(second: i64, cycle: u32) -> [Option<Act>; 2] {
 /// A frame loop whose frames carry a scripted user's input; see the module's docs.
 pub struct ScriptedUser<'a> {
     inner: &'a mut dyn FrameLoop,
+    /// The run's preset, chosen again at the end of each cycle.
+    home: QualityPreset,
     /// The last whole second of display time whose acts were played.
     played: Option<i64>,
     /// The panel's widgets as last shown (the app shows the panel every frame).
@@ -143,13 +152,19 @@ pub struct ScriptedUser<'a> {
 }
 
 impl<'a> ScriptedUser<'a> {
-    /// Plays the script over `inner`'s frames; after `run_for` (when given) the session is
-    /// asked to end (the backend's [`FrameLoop::request_quit`]).
-    pub fn new(inner: &'a mut dyn FrameLoop, run_for: Option<Duration>) -> Self {
+    /// Plays the script over `inner`'s frames, going back to preset `home` each cycle; after
+    /// `run_for` (when given) the session is asked to end (the backend's
+    /// [`FrameLoop::request_quit`]).
+    pub fn new(
+        inner: &'a mut dyn FrameLoop,
+        home: QualityPreset,
+        run_for: Option<Duration>,
+    ) -> Self {
         let now = Instant::now();
         let minutes = run_for.map_or(60, |d| d.as_secs() / 60 + 2) as usize;
         Self {
             inner,
+            home,
             played: None,
             widgets: None,
             started: now,
@@ -159,7 +174,8 @@ impl<'a> ScriptedUser<'a> {
             samples: Vec::with_capacity(minutes + 2),
             acts: 0,
             pauses: 0,
-            was_paused: false,
+            // A session's frames before it is first FOCUSED are paused too: not a loss.
+            was_paused: true,
         }
     }
 
@@ -212,6 +228,7 @@ impl<'a> ScriptedUser<'a> {
             {
                 let done = match act {
                     Act::Tweak(t) => put(&mut frame.tweaks, t),
+                    Act::HomePreset => put(&mut frame.tweaks, Tweak::Preset(self.home)),
                     Act::Pointer(p) => put(&mut frame.pointer, p),
                     Act::Aim(widget, fx, fy) => match self.widgets.as_ref() {
                         Some(w) => {
@@ -336,7 +353,7 @@ mod tests {
         for s in 0..CYCLE_S {
             for a in acts_at(s, 0).into_iter().flatten() {
                 match a {
-                    Act::Tweak(_) => tweaks += 1,
+                    Act::Tweak(_) | Act::HomePreset => tweaks += 1,
                     Act::Pointer(PointerEvent::Menu) => menus += 1,
                     Act::Pointer(PointerEvent::Trigger(true)) => presses += 1,
                     Act::Pointer(PointerEvent::Trigger(false)) => releases += 1,
@@ -344,7 +361,7 @@ mod tests {
                 }
             }
         }
-        assert_eq!(tweaks, 6);
+        assert_eq!(tweaks, 7);
         // Opened and closed; every press released.
         assert_eq!(menus, 2);
         assert_eq!((presses, releases), (4, 4));

@@ -66,7 +66,7 @@ pub fn soak(
         sessions += 1;
         let validation = ValidationWatch::of(vr_ocean::xr::FrameLoop::gpu(&xr));
         let left = deadline.saturating_duration_since(Instant::now());
-        let mut user = ScriptedUser::new(&mut xr, Some(left));
+        let mut user = ScriptedUser::new(&mut xr, opts.lod.preset(), Some(left));
         let result = app::run(&mut user, opts, hooks);
         pauses += user.pauses();
         acts += user.acts();
@@ -105,15 +105,18 @@ pub fn soak(
     let warm_after = WARM_AFTER_S.min(0.5 * minutes * 60.0);
     let warm = samples.iter().find(|s| s.at_s >= warm_after);
     let last = samples.last();
+    let resources = match (warm, last) {
+        (Some(w), Some(l)) => format!(
+            "rss {} -> {} KiB after warm-up, fds {} -> {}",
+            w.rss_kib, l.rss_kib, w.fds, l.fds
+        ),
+        // A chroot without /proc mounted (the Monado test samples from outside).
+        _ => "rss and fds not readable here (no /proc)".into(),
+    };
     println!(
         "soak summary: {:.1} min, {sessions} sessions ({lost} lost), {pauses} focus losses, \
-         {acts} scripted acts, rss {} -> {} KiB after warm-up, fds {} -> {}, {underruns} \
-         under-runs ({late_wakes} late wakes)",
+         {acts} scripted acts, {resources}, {underruns} under-runs ({late_wakes} late wakes)",
         started.elapsed().as_secs_f64() / 60.0,
-        warm.map_or(0, |s| s.rss_kib),
-        last.map_or(0, |s| s.rss_kib),
-        warm.map_or(0, |s| s.fds),
-        last.map_or(0, |s| s.fds),
     );
     Ok(())
 }

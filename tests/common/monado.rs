@@ -483,7 +483,10 @@ fn install_client(root: &Path, exe: &Path) -> String {
     format!("/xr/{file}")
 }
 
-fn run_client(
+/// [`Monado::client`] by the service's name, without holding the service (a client that
+/// outlives the service it started with: the soak's, across a killed and restarted runtime).
+#[allow(dead_code)]
+pub fn run_client(
     root: &Path,
     name: &str,
     exe: &Path,

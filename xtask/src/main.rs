@@ -224,7 +224,7 @@ const STEPS: &[Step] = &[
     },
     Step {
         name: "openxr (Monado)",
-        header: "OpenXR tests against Monado (trixie chroot, null compositor, simulated HMD; needs root), a 3-minute soak, and anisotropic filtering and the headsets' specular AA on its Mesa 25 lavapipe",
+        header: "OpenXR tests against Monado (trixie chroot, null compositor, simulated HMD; needs root), a 5-minute soak, and anisotropic filtering and the headsets' specular AA on its Mesa 25 lavapipe",
         run: Run::Cargo(&[
             "test",
             "--test",
