@@ -1,5 +1,5 @@
 //! A scripted user for long runs (`vr-ocean xr --soak-minutes`, issue 44's soak): wraps a
-//! frame loop and, on a one-minute cycle of the session's display time, does what a person at
+//! frame loop and, on a 30-second cycle of the session's unpaused display time, does what a person at
 //! play does: raises and lowers the sea state, throws crates, launches a boat, opens the panel
 //! and presses its Beaufort, spawn and reset buttons and drags its wind slider, cycles the
 //! preset, moves the sun, turns the wind, then puts the preset back. Every second cycle ends
@@ -18,8 +18,8 @@ use crate::ui::panel::{Comfort, Panel, PointerEvent, Widgets};
 use crate::xr::gpu_governor::{GovernorCaps, GovernorState};
 use crate::xr::{Acquired, FrameLoop, FrameState, Tweak, XrError};
 
-/// Seconds of one cycle of the script.
-pub const CYCLE_S: i64 = 60;
+/// Seconds of one cycle of the script (of its own clock).
+pub const CYCLE_S: i64 = 30;
 
 /// How often the process's resources are sampled (wall time).
 pub const SAMPLE_EVERY: Duration = Duration::from_secs(60);
@@ -88,41 +88,41 @@ fn acts_at(second: i64, cycle: u32) -> [Option<Act>; 2] {
         } else {
             -2
         }))),
-        4 => one(Act::Tweak(Tweak::Throw)),
-        8 => one(Act::Tweak(Tweak::LaunchBoat(3.0))),
-        12 => one(Act::Pointer(PointerEvent::Menu)),
-        14 => [
+        2 => one(Act::Tweak(Tweak::Throw)),
+        4 => one(Act::Tweak(Tweak::LaunchBoat(3.0))),
+        6 => one(Act::Pointer(PointerEvent::Menu)),
+        7 => [
             Some(Act::Aim(beaufort, 0.5, 0.5)),
             Some(Act::Pointer(PointerEvent::Trigger(true))),
         ],
-        15 => one(Act::Pointer(PointerEvent::Trigger(false))),
-        18 => [
+        8 => one(Act::Pointer(PointerEvent::Trigger(false))),
+        9 => [
             Some(Act::Aim(spawn, 0.5, 0.5)),
             Some(Act::Pointer(PointerEvent::Trigger(true))),
         ],
-        19 => one(Act::Pointer(PointerEvent::Trigger(false))),
-        22 => [
+        10 => one(Act::Pointer(PointerEvent::Trigger(false))),
+        11 => [
             Some(Act::Aim(wind, 0.3, 0.5)),
             Some(Act::Pointer(PointerEvent::Trigger(true))),
         ],
-        23 => one(Act::Aim(wind, 0.6, 0.5)),
-        24 => one(Act::Pointer(PointerEvent::Trigger(false))),
-        26 => [
+        12 => one(Act::Aim(wind, 0.6, 0.5)),
+        13 => one(Act::Pointer(PointerEvent::Trigger(false))),
+        14 => [
             Some(Act::Aim(reset, 0.5, 0.5)),
             Some(Act::Pointer(PointerEvent::Trigger(true))),
         ],
-        27 => one(Act::Pointer(PointerEvent::Trigger(false))),
-        28 => [
+        15 => one(Act::Pointer(PointerEvent::Trigger(false))),
+        16 => [
             Some(Act::Pointer(PointerEvent::Aim(None))),
             Some(Act::Pointer(PointerEvent::Menu)),
         ],
-        32 => one(Act::Tweak(Tweak::NextPreset)),
-        40 => one(Act::Tweak(Tweak::Sun {
+        18 => one(Act::Tweak(Tweak::NextPreset)),
+        21 => one(Act::Tweak(Tweak::Sun {
             elevation: 4.0 * sign,
             azimuth: 10.0,
         })),
-        48 => one(Act::Tweak(Tweak::WindDirection(25.0 * sign))),
-        52 => one(Act::HomePreset),
+        24 => one(Act::Tweak(Tweak::WindDirection(25.0 * sign))),
+        27 => one(Act::HomePreset),
         _ => [None, None],
     }
 }
@@ -132,7 +132,11 @@ pub struct ScriptedUser<'a> {
     inner: &'a mut dyn FrameLoop,
     /// The run's preset, chosen again at the end of each cycle.
     home: QualityPreset,
-    /// The last whole second of display time whose acts were played.
+    /// The script's own clock (s): the display periods of the frames not paused, so a pause
+    /// delays the script instead of skipping its acts (every session goes through the same
+    /// states).
+    script_s: f64,
+    /// The last whole second of the script's clock whose acts were played.
     played: Option<i64>,
     /// The panel's widgets as last shown (the app shows the panel every frame).
     widgets: Option<Widgets>,
@@ -165,6 +169,7 @@ impl<'a> ScriptedUser<'a> {
         Self {
             inner,
             home,
+            script_s: 0.0,
             played: None,
             widgets: None,
             started: now,
@@ -211,14 +216,15 @@ impl<'a> ScriptedUser<'a> {
 
     /// Puts the acts of the seconds since the last frame into `frame`.
     fn play(&mut self, frame: &mut FrameState) {
-        let now = frame.predicted_display_time.floor() as i64;
-        let from = self.played.map_or(now, |p| p + 1);
-        self.played = Some(now);
         self.pauses += u32::from(frame.paused && !self.was_paused);
         self.was_paused = frame.paused;
         if frame.paused {
             return;
         }
+        let now = self.script_s.floor() as i64;
+        self.script_s += frame.period.clamp(0.0, 1.0);
+        let from = self.played.map_or(now, |p| p + 1);
+        self.played = Some(now);
         // At most a few seconds are caught up (after a long wait, only the latest).
         for second in from.max(now - 2)..=now {
             let cycle = (second.div_euclid(CYCLE_S)) as u32;
