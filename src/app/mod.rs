@@ -141,11 +141,12 @@ pub trait RunHooks {
     fn frame_done(&mut self, _frame: &FrameState) {}
 
     /// The user's choices, to be kept (`keep::SettingsKeeper` saves them): at the run's start
-    /// (what the command line chose), once they have stayed unchanged for [`KEEP_AFTER`] after a change; at once when the app pauses (the
-    /// session leaves FOCUSED or the activity gets `onPause`, which come before STOPPING and
-    /// `onStop`, when a Quest may kill the process); and at the end of the run however it
-    /// ended (a lost runtime, a device error). A process killed at any moment loses at most
-    /// the last [`KEEP_AFTER`] of changes.
+    /// (what the command line chose); once they have stayed unchanged for [`KEEP_AFTER`]
+    /// after a change; at once when the app pauses (the session leaves FOCUSED or the
+    /// activity gets `onPause`, which come before STOPPING and `onStop`, when a Quest may kill
+    /// the process); and at the end of the run however it ended (a lost runtime, a device
+    /// error). A process killed at any moment loses at most the last [`KEEP_AFTER`] of
+    /// changes.
     fn keep(&mut self, _chosen: &live::Chosen) {}
 
     /// The control panel drew a new image during this frame (egui ran: it allocates). Tests

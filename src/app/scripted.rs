@@ -1,12 +1,13 @@
 //! A scripted user for long runs (`vr-ocean xr --soak-minutes`, issue 44's soak): wraps a
-//! frame loop and, on a 30-second cycle of the session's unpaused display time, does what a person at
-//! play does: raises and lowers the sea state, throws crates, launches a boat, opens the panel
-//! and presses its Beaufort, spawn and reset buttons and drags its wind slider, cycles the
-//! preset, moves the sun, turns the wind, then puts the preset back. Every second cycle ends
-//! where the first began (the sea state, wind, sun and preset back, the bodies reset), so a
-//! soak compares memory at like states. Only while the app is not paused (input is ignored
-//! then anyway). Once a minute of wall time it samples the process's resident memory and open
-//! file descriptors ([`ResourceSample`]), so a soak can show they stay flat.
+//! frame loop and, on a 30-second cycle of the session's unpaused display time, does what a
+//! person at play does: raises and lowers the sea state, throws crates, launches a boat, opens
+//! the panel and presses its Beaufort, spawn and reset buttons and drags its wind slider,
+//! cycles the preset, moves the sun, turns the wind, then puts the preset back. Every second
+//! cycle ends where the first began (the sea state, wind, sun and preset back, the bodies
+//! reset), so a soak compares memory at like states. Only while the app is not paused (input
+//! is ignored then anyway; the script's clock waits). Once a minute of wall time it samples
+//! the process's resident memory and open file descriptors ([`ResourceSample`]), so a soak
+//! can show they stay flat.
 //!
 //! Everything else is the wrapped backend's: every [`FrameLoop`] call is forwarded.
 
