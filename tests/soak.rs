@@ -24,6 +24,7 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use common::monado::{self, Monado};
+use vr_ocean::app::scripted::ResourceSample;
 
 const EXE: &str = env!("CARGO_BIN_EXE_vr-ocean");
 const NAME: &str = "soak";
@@ -37,14 +38,6 @@ fn number_before(line: &str, tail: &str) -> f64 {
         .unwrap_or_else(|| panic!("no number before {tail:?} in {line:?}"))
 }
 
-/// The client's resources at one moment, read from the host's `/proc`.
-#[derive(Clone, Copy, Debug)]
-struct Sample {
-    at_s: f64,
-    rss_kib: u64,
-    fds: u64,
-}
-
 /// The soak client's process: the one whose command line has `--soak-minutes`.
 fn soak_pid() -> Option<u32> {
     std::fs::read_dir("/proc").ok()?.flatten().find_map(|e| {
@@ -53,21 +46,6 @@ fn soak_pid() -> Option<u32> {
         let is_soak = cmdline.split(|&b| b == 0).any(|a| a == b"--soak-minutes");
         is_soak.then_some(pid)
     })
-}
-
-/// `pid`'s resident memory and open files now.
-fn sample(pid: u32, at_s: f64) -> Option<Sample> {
-    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
-    let rss_kib = status
-        .lines()
-        .find_map(|l| l.strip_prefix("VmRSS:"))?
-        .trim()
-        .trim_end_matches("kB")
-        .trim()
-        .parse()
-        .ok()?;
-    let fds = std::fs::read_dir(format!("/proc/{pid}/fd")).ok()?.count() as u64;
-    Some(Sample { at_s, rss_kib, fds })
 }
 
 #[test]
@@ -117,7 +95,7 @@ fn a_soak_through_focus_losses_and_a_lost_runtime_stays_flat() {
             let mut samples = Vec::new();
             while !done.load(std::sync::atomic::Ordering::Relaxed) {
                 let at = start.elapsed().as_secs_f64();
-                if let Some(x) = soak_pid().and_then(|pid| sample(pid, at)) {
+                if let Some(x) = soak_pid().and_then(|pid| ResourceSample::of(Some(pid), at)) {
                     samples.push(x);
                 }
                 std::thread::sleep(Duration::from_secs(5));

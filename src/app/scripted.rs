@@ -37,9 +37,16 @@ pub struct ResourceSample {
 }
 
 impl ResourceSample {
-    /// The process now, `at_s` seconds into the run; `None` where `/proc` has no answer.
+    /// This process now, `at_s` seconds into the run; `None` where `/proc` has no answer.
     pub fn now(at_s: f64) -> Option<Self> {
-        let status = std::fs::read_to_string("/proc/self/status").ok()?;
+        Self::of(None, at_s)
+    }
+
+    /// Process `pid` (`None`: this one) now, `at_s` seconds into the run, from
+    /// `/proc/<pid>/status` and `/proc/<pid>/fd`; `None` where they cannot be read.
+    pub fn of(pid: Option<u32>, at_s: f64) -> Option<Self> {
+        let dir = pid.map_or_else(|| "/proc/self".to_string(), |p| format!("/proc/{p}"));
+        let status = std::fs::read_to_string(format!("{dir}/status")).ok()?;
         let rss_kib = status
             .lines()
             .find_map(|l| l.strip_prefix("VmRSS:"))?
@@ -48,7 +55,7 @@ impl ResourceSample {
             .trim()
             .parse()
             .ok()?;
-        let fds = std::fs::read_dir("/proc/self/fd").ok()?.count() as u64;
+        let fds = std::fs::read_dir(format!("{dir}/fd")).ok()?.count() as u64;
         Some(Self { at_s, rss_kib, fds })
     }
 }
@@ -350,6 +357,20 @@ impl FrameLoop for ScriptedUser<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_process_is_sampled_by_id_as_by_self() {
+        if cfg!(any(target_os = "linux", target_os = "android")) {
+            let own = ResourceSample::now(0.0).expect("/proc/self");
+            let by_id = ResourceSample::of(Some(std::process::id()), 0.0).expect("/proc/<pid>");
+            assert!(own.rss_kib > 0 && by_id.rss_kib > 0);
+            assert!(
+                by_id.rss_kib.abs_diff(own.rss_kib) < own.rss_kib / 2,
+                "{own:?} {by_id:?}"
+            );
+            assert!(own.fds >= 3 && by_id.fds >= 3);
+        }
+    }
 
     #[test]
     fn a_cycle_plays_every_kind_of_act_and_never_aims_at_quit() {
