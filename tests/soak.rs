@@ -5,9 +5,10 @@
 //! a new instance when it is back, in the same process). Judged: the process exits cleanly;
 //! the sessions and losses as scripted; both focus losses seen; resident memory flat: the peak
 //! over the last session's last two script cycles (its states repeat every two cycles of a
-//! clock that stands still while paused) within 5 % of the same peak of the first session
-//! after a loss and of its own first two cycles, so neither a leak within a session nor one
-//! that each lost session leaves goes unseen (the first session's peak is reported: the
+//! clock that stands still while paused) within 5 % of its own first two cycles and of the
+//! same peak of the first session after a loss (10 % between sessions in the CI soak, whose
+//! 100-s sessions' peaks scatter more), so neither a leak within a session nor one that each
+//! lost session leaves goes unseen (the first session's peak is reported: the
 //! first loss leaves a one-time step); open file
 //! descriptors not growing; both read by this test from the host's `/proc/<pid>` every 5 s
 //! (the root has no `/proc` of its own); no under-run of the sound's clock that the host did
@@ -226,9 +227,19 @@ fn a_soak_through_focus_losses_and_a_lost_runtime_stays_flat() {
         losses >= 2,
         "judging memory needs two sessions after a loss"
     );
+    // Sessions of 100 s (the CI soak) sample each state only a few times: their peaks were
+    // measured −1.3 .. +5.9 % apart in four runs with nothing changed (Zen 5), so they are held
+    // to 10 %; sessions of 5 minutes and more (`cargo xtask soak`) to 5 %.
+    let shortest = bounds
+        .iter()
+        .map(|(f, t)| t - f)
+        .fold(f64::INFINITY, f64::min);
+    let between = if shortest >= 300.0 { 1.05 } else { 1.10 };
     assert!(
-        last as f64 <= after_loss as f64 * 1.05,
-        "resident memory grew from session to session: peak {after_loss} -> {last} KiB"
+        last as f64 <= after_loss as f64 * between,
+        "resident memory grew from session to session: peak {after_loss} -> {last} KiB \
+         (allowed {:+.0} %)",
+        100.0 * (between - 1.0)
     );
     assert!(
         last as f64 <= last_early as f64 * 1.05,
