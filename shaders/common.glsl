@@ -66,6 +66,12 @@ layout(set = 0, binding = 0, std140) uniform Globals {
     vec4 filtering;
     // rgb: the sun's disc as the display shows it (its radiance exposed and tone-mapped).
     vec4 sun_display;
+    // Per eye, for the waterline: the unit direction the eye looks along (xyz) and the near
+    // plane's distance (w, m).
+    vec4 waterline[2];
+    // Under the surface: x the side the view is drawn from (0 above, 1 below, 2 per pixel from
+    // its point on the near plane); y how deep (m) the eyes are (negative above the water).
+    vec4 underwater;
 } g;
 
 // The interaction layer (`render::ocean::interaction`): h (m), ∂h/∂x, ∂h/∂z, foam; clamped,

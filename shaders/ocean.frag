@@ -59,6 +59,7 @@ layout(set = 0, binding = 6, std430) buffer PathTally {
 #endif
 #endif
 #include "common.glsl"
+#include "water.glsl"
 
 // The choices a pixel makes, and the probes of `vr-ocean gpu-budget` (`render::budget`).
 // Normally every choice is the pixel's own. A cost variant (COST_PATH defined, built by
@@ -179,17 +180,9 @@ layout(location = 0) out vec4 o_colour;
 
 // Smallest highlight roughness (`render::ocean::pass::MIN_ROUGHNESS`).
 const float MIN_ROUGHNESS = 0.06;
-// Water's reflectance at normal incidence: ((1 - 1.33) / (1 + 1.33))^2.
-const float WATER_F0 = 0.02;
-// Irradiance reflectance of the water body (the light scattered back up out of deep ocean
-// water, per channel): about 1-2 % in the blue-green, almost none in the red.
-const vec3 WATER_BODY_REFLECTANCE = vec3(0.002, 0.014, 0.022);
 // ...and seen at grazing angles, whose light crossed only the thin upper layer and the sides
 // of the waves (less of the red and the green absorbed).
 const vec3 WATER_BODY_GRAZING = vec3(0.004, 0.022, 0.022);
-// Absorption coefficients of pure water (1/m) at about 650, 550 and 450 nm (Pope & Fry 1997):
-// the tint of light that travelled through the water.
-const vec3 PURE_WATER_ABSORPTION = vec3(0.35, 0.057, 0.015);
 // Light through a crest: the path (m) it crosses, the share of the sun's light the crest
 // sends on toward the eye (forward scattering), and the colour of sea water's scattering
 // (∝ λ^-2 at 650, 550 and 450 nm, between pure water's λ^-4.3 and particles' λ^-1).
@@ -202,7 +195,6 @@ const float CREST_PATH = 1.5;
 // proportion to its lift squared (zero below the mean sea).
 const vec3 CREST_SCATTER = vec3(0.003, 0.022, 0.026);
 const float CREST_TRANSMITTANCE = 1.0;
-const vec3 WATER_SCATTER_COLOUR = vec3(0.48, 0.67, 1.0);
 // Diffuse albedo of foam (fresh foam is 0.5-0.8 over the visible).
 const vec3 FOAM_ALBEDO = vec3(0.75, 0.78, 0.8);
 // Screen-space filter: variance of the pixel footprint and the largest added alpha^2
@@ -707,9 +699,29 @@ void count_size() {
 }
 #endif
 
+#ifndef COST_PATH
+#include "underwater.glsl"
+// The meniscus over what the pixel shows (the cost variants: none, nothing under the water).
+#define MENISCUS(x) with_meniscus((x), wl)
+#else
+#define MENISCUS(x) (x)
+#endif
+
 void main() {
 #ifdef COUNT_PATHS
     count_size();
+#endif
+#ifndef COST_PATH
+    // The side of the surface the pixel is drawn from (issue 45), decided in uniform control
+    // flow with the rest position's derivatives the view from below needs.
+    vec3 ray = v_sky != 0u ? normalize(v_world) : normalize(v_world - v_eye);
+    Waterline wl = ocean_waterline(ray);
+    vec2 rest_dx = dFdx(v_xz);
+    vec2 rest_dy = dFdy(v_xz);
+    if (wl.below) {
+        o_colour = vec4(MENISCUS(display(underwater_colour(ray, rest_dx, rest_dy))), 1.0);
+        return;
+    }
 #endif
     if (TAKES_SKY(v_sky != 0u)) {
         COUNT(COUNT_SKY, 1u);
@@ -725,7 +737,7 @@ void main() {
         } else
 #endif
         {
-            o_colour = vec4(sky_display(d), 1.0);
+            o_colour = vec4(MENISCUS(sky_display(d)), 1.0);
         }
         SKY_DONE
     }
@@ -856,5 +868,5 @@ void main() {
     // Fog to the sky at the horizon, its colour looked up by the vertices.
     mediump float fog = 1.0 - exp(-dist * g.params.z);
     colour = mix(colour, v_fog, fog);
-    SET_OUTPUT(vec4(display(colour), 1.0));
+    SET_OUTPUT(vec4(MENISCUS(display(colour)), 1.0));
 }

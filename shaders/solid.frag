@@ -1,9 +1,11 @@
 #version 450
 // Solid things lit by the sea's sun and sky (linear HDR, exposed and tonemapped like the
 // water): diffuse sun (no shadows), the sky's light from the hemisphere the face looks at, the
-// sea's light on faces looking down, and the same fog as the water.
+// sea's light on faces looking down, the daylight fading under the water, and the same fog as
+// the water (from the air) or the water between (from under it).
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
+#include "water.glsl"
 
 layout(location = 0) in vec3 v_world;
 layout(location = 1) in vec3 v_normal;
@@ -54,8 +56,17 @@ void main() {
            + g.sky_illuminance.rgb * (0.5 + 0.5 * n.y)
            + SEA_ALBEDO * e_h * (0.5 - 0.5 * n.y);
     e += HELD_GLOW * e_h * (deck ? 0.0 : v_colour.a);
+    // Under the water the daylight fades with depth (the mean sea's; the waves' own rise is
+    // small beside the fade's metres).
+    e *= exp(-DOWNWELLING_ATTENUATION * max(-v_world.y, 0.0));
     vec3 colour = albedo * e / PI;
-    float fog = 1.0 - exp(-dist * g.params.z);
-    colour = mix(colour, fog_colour(-v), fog);
-    o_colour = vec4(display(colour), 1.0);
+    // Seen from under the water, the water between (issue 45); from the air, the fog.
+    Waterline wl = waterline_at_near_plane(-v, v_eye);
+    if (wl.below) {
+        colour = through_water(colour, dist, -v, g.underwater.y);
+    } else {
+        float fog = 1.0 - exp(-dist * g.params.z);
+        colour = mix(colour, fog_colour(-v), fog);
+    }
+    o_colour = vec4(with_meniscus(display(colour), wl), 1.0);
 }

@@ -128,6 +128,8 @@ pub struct Capture<'a> {
     pub height: u32,
     /// Left and right eye pixels.
     pub eyes: [&'a [u8]; 2],
+    /// The simulation's surfaces the frame showed (tests ask them where the water was).
+    pub surfaces: &'a crate::sim::Surfaces,
 }
 
 /// What a caller of [`run`] hears about while frames go by.
@@ -495,6 +497,7 @@ impl<'a> Frames<'a> {
                     width: extent.width,
                     height: extent.height,
                     eyes,
+                    surfaces: self.sim.surfaces(),
                 })?;
             }
         }

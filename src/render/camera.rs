@@ -103,6 +103,15 @@ pub struct Globals {
     /// curve, `ocean::sky_map::displayed`): the sky's pixels mix it over the map's display
     /// layer by the disc's coverage.
     pub sun_display: [f32; 4],
+    /// Per eye, for the waterline (issue 45): the unit direction the eye looks along (xyz)
+    /// and the near plane's distance (w, m): a pixel's point on the near plane is the eye plus
+    /// its ray scaled to that depth.
+    pub waterline: [[f32; 4]; 2],
+    /// Under the surface: x the side the view is drawn from (0 above the water, 1 below, 2
+    /// the surface may cross the near plane: each pixel decides from its own point there,
+    /// [`crate::render::ocean::Underwater`]); y how deep (m) the eyes are under the surface
+    /// (negative above it; the light in the water fades with it); z, w unused.
+    pub underwater: [f32; 4],
 }
 
 impl Globals {
@@ -114,6 +123,7 @@ impl Globals {
             let rot = Mat4::from_quat(eye.orientation.inverse());
             self.sky_from_clip[i] = (p * rot).inverse().to_cols_array();
             self.eye_pos[i] = eye.position.extend(1.0).to_array();
+            self.waterline[i] = (eye.orientation * Vec3::NEG_Z).extend(NEAR).to_array();
         }
     }
 }

@@ -81,3 +81,83 @@ pub fn heights_at<'a>(
 ) -> impl Iterator<Item = f32> + 'a {
     points.iter().map(|p| height_at(cascades, p[0], p[1]))
 }
+
+/// Which side of the displaced surface a point is on (issue 45: the renderer draws each pixel
+/// from the side its point on the near plane is on; the float mode and the sound change with
+/// the head's side).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    /// In the air.
+    Above,
+    /// In the water.
+    Below,
+}
+
+/// How far (m) point `p` = [x, y, z] is below the displaced surface (negative above it).
+pub fn depth_at(cascades: &[CascadeSurface], p: [f32; 3]) -> f32 {
+    height_at(cascades, p[0], p[2]) - p[1]
+}
+
+/// The side of the surface every one of `points` is on by more than `margin` (m), or `None`
+/// when they straddle it or come within `margin` of it: the near plane's corners and centre
+/// of an eye, for the renderer, which decides per pixel only when the surface may cross the
+/// near plane (what the cascades do not hold, the interaction layer's rings and the mesh's
+/// interpolation, is what `margin` covers).
+pub fn side_of_all(cascades: &[CascadeSurface], points: &[[f32; 3]], margin: f32) -> Option<Side> {
+    let mut side = None;
+    for &p in points {
+        let depth = depth_at(cascades, p);
+        let this = if depth > margin {
+            Side::Below
+        } else if depth < -margin {
+            Side::Above
+        } else {
+            return None;
+        };
+        if side.is_some_and(|s| s != this) {
+            return None;
+        }
+        side = Some(this);
+    }
+    side
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::grid::GridSize;
+    use crate::sim::surface::FloatCopies;
+
+    /// One 16-texel cascade of patch 16 m whose height rises along x: h = 0.1·(x mod 16) − 0.5
+    /// at the texels (a ramp, so the answer depends on where the point is).
+    fn ramp() -> Vec<CascadeSurface> {
+        let grid = GridSize::new(16).unwrap();
+        let mut c = CascadeSurface::new(grid, 16.0, FloatCopies::Keep);
+        for (i, d) in c.displacement.iter_mut().enumerate() {
+            d[1] = 0.1 * (i % 16) as f32 - 0.5;
+        }
+        vec![c]
+    }
+
+    #[test]
+    fn depth_is_measured_from_the_displaced_height() {
+        let c = ramp();
+        // At x = 5 the surface is at 0.0: 0.3 m under it is 0.3 deep, 0.2 m over it -0.2.
+        assert!((depth_at(&c, [5.0, -0.3, 2.0]) - 0.3).abs() < 1e-5);
+        assert!((depth_at(&c, [5.0, 0.2, 2.0]) + 0.2).abs() < 1e-5);
+    }
+
+    #[test]
+    fn points_on_one_side_beyond_the_margin_agree_and_others_straddle() {
+        let c = ramp();
+        let under = [[2.0, -0.5, 0.0], [3.0, -0.5, 0.0]];
+        assert_eq!(side_of_all(&c, &under, 0.1), Some(Side::Below));
+        let over = [[2.0, 0.5, 0.0], [3.0, 0.5, 0.0]];
+        assert_eq!(side_of_all(&c, &over, 0.1), Some(Side::Above));
+        // The same height y = 0 is above the water at x = 2 (h = -0.3), below at x = 8 (0.3).
+        let across = [[2.0, 0.0, 0.0], [8.0, 0.0, 0.0]];
+        assert_eq!(side_of_all(&c, &across, 0.1), None);
+        // Within the margin of the surface counts as straddling.
+        assert_eq!(side_of_all(&c, &[[5.0, 0.05, 0.0]], 0.1), None);
+    }
+}

@@ -35,6 +35,7 @@ mod sky_map;
 mod slots;
 pub mod solids;
 mod textures;
+mod underwater;
 
 use std::time::{Duration, Instant};
 
@@ -66,6 +67,7 @@ pub use settings::{
 };
 pub use sky_map::SkyLight;
 pub use solids::{Shape, Solid, SolidInstance, SolidKind, SolidVertex, MAX_SOLIDS};
+pub use underwater::{Underwater, WATERLINE_MARGIN_M};
 
 /// The most cascades the shaders read (a `vec4` of patch sizes).
 pub const MAX_CASCADES: usize = 4;

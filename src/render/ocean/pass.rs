@@ -57,6 +57,8 @@ impl PassConstants {
     ) -> Globals {
         let mut g: Globals = bytemuck::Zeroable::zeroed();
         g.set_eyes(input.eyes);
+        let (side, depth) = super::Underwater::of(&input.surfaces.cascades, input.eyes);
+        g.underwater = [side.code(), depth, 0.0, 0.0];
         let viewer = (input.eyes[0].position + input.eyes[1].position) * 0.5;
         g.lod_viewer = viewer.extend(input.surfaces.time() as f32).to_array();
         g.sun = light
