@@ -11,6 +11,7 @@ use glam::Vec3;
 
 use super::scene::{Listener, SoundFrame, Splash, BREAK_SECTORS, WASH_POINTS};
 use super::spatial::{place, Spatializer};
+use super::submerged::Submerged;
 use super::voices::breaking::Crackle;
 use super::voices::splash::SplashVoice;
 use super::voices::water::{Rumble, Wash};
@@ -98,6 +99,7 @@ pub struct Soundscape {
     breaking: [(Crackle, Spatializer); BREAK_SECTORS],
     splashes: [(SplashVoice, Spatializer); SPLASH_VOICES],
     pending: [Option<Splash>; MAX_PENDING],
+    submerged: Submerged,
     mono: [f32; BLOCK],
     stereo: [f32; 2 * BLOCK],
     gain: f32,
@@ -138,6 +140,7 @@ impl Soundscape {
                 )
             }),
             pending: [None; MAX_PENDING],
+            submerged: Submerged::new(rate),
             mono: [0.0; BLOCK],
             stereo: [0.0; 2 * BLOCK],
             gain: 1.0,
@@ -249,6 +252,11 @@ impl Soundscape {
             },
             stereo,
         );
+        // Under the water the surface turns the air's sound away.
+        let air = self.submerged.air_gain();
+        if air < 1.0 {
+            stereo.iter_mut().for_each(|s| *s *= air);
+        }
 
         // The swell under everything, the same at both ears.
         let mono = &mut self.mono[..n];
@@ -281,5 +289,8 @@ impl Soundscape {
                 ears.render(mono, place(head, p, rate), !sounded, stereo);
             }
         }
+
+        // A diver's ears when the head is under the water.
+        self.submerged.process(frame.submersion > 0.0, stereo);
     }
 }

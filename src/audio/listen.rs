@@ -175,6 +175,7 @@ impl SeaProbe {
             significant_height: input.surfaces.significant_height,
             wash,
             breaking,
+            submersion: surface(head.x, head.z) - head.y,
         }
     }
 }

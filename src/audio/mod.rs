@@ -16,6 +16,7 @@
 //! | `dsp.rs` | noise, filters, the head shadow, smoothing |
 //! | `voices/` | one sound per file |
 //! | `spatial.rs` | the head model: ITD, ILD, distance |
+//! | `submerged.rs` | the ears under the water: the air's sound cut, the mix low and close |
 //! | `engine.rs` | voices placed and mixed, the limiter |
 //! | `link.rs` | frame thread → audio thread, lock-free |
 //! | `player.rs` | the callback's work |
@@ -42,6 +43,7 @@ pub mod player;
 pub mod reopen;
 pub mod scene;
 pub mod spatial;
+pub mod submerged;
 pub mod voices;
 pub mod wav;
 

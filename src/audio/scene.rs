@@ -79,6 +79,9 @@ pub struct SoundFrame {
     pub wash: [WashPoint; WASH_POINTS],
     /// Whitecaps round the listener.
     pub breaking: [BreakingSector; BREAK_SECTORS],
+    /// How deep (m) the head is under the water's surface (negative above it): under it the
+    /// soundscape is a diver's ([`super::submerged`]).
+    pub submersion: f32,
 }
 
 impl Default for SoundFrame {
@@ -91,6 +94,7 @@ impl Default for SoundFrame {
             significant_height: 0.0,
             wash: [WashPoint::default(); WASH_POINTS],
             breaking: [BreakingSector::default(); BREAK_SECTORS],
+            submersion: -1.0,
         }
     }
 }
@@ -135,6 +139,7 @@ impl SoundFrame {
         f.wind_speed = finite_or(f.wind_speed, 0.0).clamp(0.0, 60.0);
         f.wind_toward = f.wind_toward.try_normalize().unwrap_or(Vec2::X);
         f.significant_height = finite_or(f.significant_height, 0.0).clamp(0.0, 30.0);
+        f.submersion = finite_or(f.submersion, -1.0);
         for w in &mut f.wash {
             w.position = position_or(w.position, head);
             w.rise = finite_or(w.rise, 0.0).clamp(-20.0, 20.0);

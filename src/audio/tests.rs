@@ -204,3 +204,82 @@ fn a_broken_frame_is_silenced_not_rendered_as_nan() {
     e.splash(s);
     assert_eq!(e.stats().dropped, 1);
 }
+
+/// The first difference of one channel: its power is the sound's above a few kilohertz (a
+/// high-pass rising 6 dB an octave).
+fn highs(x: &[f32], ch: usize) -> Vec<f32> {
+    let c = measure::channel(x, ch);
+    c.windows(2).map(|w| w[1] - w[0]).collect()
+}
+
+#[test]
+fn under_the_water_the_air_goes_quiet_and_the_sea_low_and_close() {
+    let mut air = engine(&measure::busy_sea(0.0));
+    let mut water = engine(&SoundFrame {
+        submersion: 1.0,
+        ..measure::busy_sea(0.0)
+    });
+    render(&mut air, 1.0);
+    render(&mut water, 1.0);
+    let (a, w) = (render(&mut air, 3.0), render(&mut water, 3.0));
+    let (ca, cw) = (
+        centroid(&measure::channel(&a, 0), RATE),
+        centroid(&measure::channel(&w, 0), RATE),
+    );
+    let highs_db = 10.0 * (power(&highs(&w, 0)) / power(&highs(&a, 0))).log10();
+    let all_db = 10.0 * (power(&w) / power(&a)).log10();
+    eprintln!("under: centroid {ca:.0} → {cw:.0} Hz, highs {highs_db:+.1} dB, all {all_db:+.1} dB");
+    assert!(
+        cw < 0.4 * ca,
+        "the sea under the water is not low: {ca:.0} → {cw:.0} Hz"
+    );
+    assert!(highs_db < -20.0, "the highs fell only {highs_db:.1} dB");
+    // Muffled, not silenced: the water's own sound stays near its level.
+    assert!(all_db > -12.0, "the whole sea fell {all_db:.1} dB");
+    // The wind alone: the surface turns it away.
+    let mut wind_air = engine(&windy(15.0));
+    let mut wind_water = engine(&SoundFrame {
+        submersion: 0.5,
+        ..windy(15.0)
+    });
+    render(&mut wind_air, 1.0);
+    render(&mut wind_water, 1.0);
+    let wind_db = measure::db_over(&render(&mut wind_water, 2.0), &render(&mut wind_air, 2.0));
+    eprintln!("the wind under the water: {wind_db:+.1} dB");
+    assert!(wind_db < -20.0, "the wind fell only {wind_db:.1} dB");
+}
+
+#[test]
+fn crossing_the_surface_does_not_click() {
+    // Down and up again in a high swell with no wind, no breaking near and the deck clear of
+    // the water (the swell's rumble alone: a low sound, against which a step would stand
+    // out).
+    let calm = |t: f64, submersion: f32| SoundFrame {
+        time: t,
+        significant_height: 6.0,
+        submersion,
+        ..SoundFrame::default()
+    };
+    // A click is a step: one sample's change far beyond its neighbours'. The largest change
+    // between samples while crossing, against the largest in a second of each side's steady
+    // sound.
+    let sharpest = |x: &[f32]| highs(x, 0).iter().fold(0.0f32, |m, d| m.max(d.abs()));
+    let mut e = engine(&calm(0.0, -0.3));
+    render(&mut e, 1.0);
+    let above = sharpest(&render(&mut e, 1.0));
+    e.set_frame(&calm(2.0, 0.3));
+    render(&mut e, 1.0);
+    let below = sharpest(&render(&mut e, 1.0));
+    let steady = above.max(below);
+    let mut worst: f32 = 0.0;
+    for (depth, t) in [(-0.3, 4.0), (0.3, 5.0), (-0.3, 6.0), (0.3, 7.0)] {
+        e.set_frame(&calm(t, depth));
+        worst = worst.max(sharpest(&render(&mut e, 0.25)));
+        render(&mut e, 0.75);
+    }
+    eprintln!("largest change between samples: above {above:.3e}, below {below:.3e}, crossing {worst:.3e}");
+    assert!(
+        worst <= steady * 1.05,
+        "a crossing clicks: {worst:.3e} vs {steady:.3e}"
+    );
+}
