@@ -44,7 +44,7 @@
 // so that the tone curve's knee can be tallied in it.
 #ifdef COUNT_PATHS
 layout(set = 0, binding = 6, std430) buffer PathTally {
-    uint tally[44];
+    uint tally[46];
 } t_paths;
 // Tally of fragments through the tone curve's knee (`COUNT_KNEE`).
 #define KNEE_TAKEN() atomicAdd(t_paths.tally[43], 1u)
@@ -69,7 +69,9 @@ layout(set = 0, binding = 6, std430) buffer PathTally {
 // cascades sampled again), 4 water shaded once with foam, 5 water without anti-aliasing, 6
 // water shaded once with the detail near the viewer; 7 the union of every path (each branch
 // taken, as a device that runs both sides of every branch whatever its lanes chose pays for
-// each fragment: `render::budget::calibration`). The counting variant (COUNT_PATHS) tallies
+// each fragment: `render::budget::calibration`; the side of the surface is a choice a whole
+// view makes but at the waterline, so the union leaves the view from below out); 8 the
+// surface seen from below, 9 the water where a ray from below meets nothing (issue 45). The counting variant (COUNT_PATHS) tallies
 // in a storage buffer which paths the pixels took.
 // Every loop is unrolled ([[unroll]], constant bounds: cascade loops run to MAX_CASCADES and
 // skip the cascades beyond the count), so per-cascade arrays stay in registers; a loop bounded
@@ -152,6 +154,10 @@ const int LANE_TALLIES = 3;
 const uint COUNT_THICKNESS = 27u;
 // Then the fragments whose colour went through the tone curve's knee (`KNEE_TAKEN`).
 const uint COUNT_KNEE = 43u;
+// Then the fragments drawn from under the water (issue 45): the surface seen from below, and
+// the water itself where the ray meets nothing (the sky's fragments).
+const uint COUNT_BELOW = 44u;
+const uint COUNT_DEPTHS = 45u;
 #ifdef COUNT_PATHS
 // A shader with side effects would otherwise run before the depth test: keep it where the
 // real one runs (it writes no depth and discards nothing, so early tests change no image).
@@ -699,9 +705,10 @@ void count_size() {
 }
 #endif
 
-#ifndef COST_PATH
 #include "underwater.glsl"
-// The meniscus over what the pixel shows (the cost variants: none, nothing under the water).
+#ifdef UNDERWATER
+// The meniscus over what the pixel shows (the variant drawn from the air and the cost
+// variants: none; the latter's underwater paths are 8 and 9).
 #define MENISCUS(x) with_meniscus((x), wl)
 #else
 #define MENISCUS(x) (x)
@@ -711,15 +718,38 @@ void main() {
 #ifdef COUNT_PATHS
     count_size();
 #endif
-#ifndef COST_PATH
+#ifdef UNDERWATER
     // The side of the surface the pixel is drawn from (issue 45), decided in uniform control
-    // flow with the rest position's derivatives the view from below needs.
-    vec3 ray = v_sky != 0u ? normalize(v_world) : normalize(v_world - v_eye);
-    Waterline wl = ocean_waterline(ray);
-    vec2 rest_dx = dFdx(v_xz);
-    vec2 rest_dy = dFdy(v_xz);
-    if (wl.below) {
-        o_colour = vec4(MENISCUS(display(underwater_colour(ray, rest_dx, rest_dy))), 1.0);
+    // flow with the rest position's derivatives the view from below needs. Only in the
+    // variant bound for frames some of which are under the water (`UNDERWATER`): lavapipe runs
+    // both sides of a branch behind a uniform, and paid 12-18 % of its pass for this above
+    // the water.
+    Waterline wl;
+    wl.below = false;
+    wl.line = 0.0;
+    if (g.underwater.x > 0.5) {
+        vec3 ray = v_sky != 0u ? normalize(v_world) : normalize(v_world - v_eye);
+        wl = ocean_waterline(ray);
+        vec2 rest_dx = dFdx(v_xz);
+        vec2 rest_dy = dFdy(v_xz);
+        if (wl.below) {
+            COUNT(v_sky != 0u ? COUNT_DEPTHS : COUNT_BELOW, 1u);
+            o_colour = vec4(MENISCUS(display(underwater_colour(ray, rest_dx, rest_dy))), 1.0);
+            return;
+        }
+    }
+#elif defined(COST_PATH) && COST_PATH == 8
+    // The surface seen from below.
+    {
+        vec3 ray = normalize(v_world - v_eye);
+        o_colour = vec4(display(surface_from_below(ray, distance(v_world, v_eye), dFdx(v_xz),
+                                                   dFdy(v_xz))), 1.0);
+        return;
+    }
+#elif defined(COST_PATH) && COST_PATH == 9
+    // The water itself, where a ray from under the water meets nothing.
+    {
+        o_colour = vec4(display(depths_radiance(normalize(v_world), g.underwater.y)), 1.0);
         return;
     }
 #endif

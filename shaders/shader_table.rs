@@ -7,10 +7,15 @@ pub const SHADERS: &[(&str, &str, &[&str])] = &[
     ("ocean.vert", "ocean_mv.vert", &["MULTIVIEW=1"]),
     ("ocean.vert", "ocean.vert", &[]),
     ("ocean.frag", "ocean.frag", &[]),
+    // With the view from under the water and the waterline (`UNDERWATER`, issue 45): bound
+    // only for frames some of which are under it.
+    ("ocean.frag", "ocean_under.frag", &["UNDERWATER=1"]),
     // With a fragment density map (fixed foveation): no supersampling in the periphery.
     ("ocean.frag", "ocean_fdm.frag", &["FRAGMENT_DENSITY=1"]),
-    // The ocean's fragment shader tallying the paths its pixels take (`vr-ocean gpu-budget`).
-    ("ocean.frag", "ocean_count.frag", &["COUNT_PATHS=1"]),
+    ("ocean.frag", "ocean_fdm_under.frag", &["FRAGMENT_DENSITY=1", "UNDERWATER=1"]),
+    // The ocean's fragment shader tallying the paths its pixels take (`vr-ocean gpu-budget`),
+    // on both sides of the surface.
+    ("ocean.frag", "ocean_count.frag", &["COUNT_PATHS=1", "UNDERWATER=1"]),
     ("solid.vert", "solid_mv.vert", &["MULTIVIEW=1"]),
     ("solid.vert", "solid.vert", &[]),
     ("solid.frag", "solid.frag", &[]),
@@ -74,6 +79,17 @@ pub const COST_SHADERS: &[(&str, &str, &[&str])] = &[
         "ocean.frag",
         "cost_knee.frag",
         &["COST_PATH=2", "COST_CASCADES=3", "COST_RESAMPLED=0", "COST_KNEE=1"],
+    ),
+    // The view from under the water (issue 45): the surface from below, and the depths.
+    (
+        "ocean.frag",
+        "cost_below.frag",
+        &["COST_PATH=8", "COST_CASCADES=3", "COST_RESAMPLED=0"],
+    ),
+    (
+        "ocean.frag",
+        "cost_depths.frag",
+        &["COST_PATH=9", "COST_CASCADES=3", "COST_RESAMPLED=0"],
     ),
     ("calibrate.frag", "cal_base.frag", &["KERNEL=0", "COUNT=0"]),
     ("calibrate.frag", "cal_alu.frag", &["KERNEL=1", "COUNT=96"]),

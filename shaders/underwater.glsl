@@ -21,7 +21,7 @@ float sun_through(vec3 t, Lobe l) {
 // gradients `dx`, `dy` of the rest position: the pixel may be in a branch of its own at the
 // waterline), its lobe widened by what the maps filtered, as above the water.
 vec3 surface_from_below(vec3 ray, float dist, vec2 dx, vec2 dy) {
-    int cascades = int(g.params.x);
+    int cascades = CASCADE_COUNT;
     float half_texel = g.derived.z;
     PixelCascades p;
     p.layer_slope = -interaction_at(v_xz).yz;

@@ -69,12 +69,17 @@ fn ray_of(f: &Frame, eye: usize, x: u32, y: u32) -> Vec3 {
     v.orientation * Vec3::new(tx, ty, -1.0).normalize()
 }
 
+/// Off the vertical (degrees), the corners counted as outside Snell's window: its edge on a flat
+/// sea (48.6) and five degrees for the waves of a 2 m/s sea, which tilt the edge back and forth
+/// (their slopes' deviation, 0.11, turns a ray near the critical angle by several degrees).
+const OUTSIDE_WINDOW_DEG: f32 = 53.6;
+
 #[test]
 fn looking_up_from_four_metres_shows_snells_window() {
     // A calm sea: the window's edge sharp, 48.6 degrees off the vertical. Its centre, the
-    // pixel straight up, against the image's corners outside it (the corners' rays 52-60
-    // degrees off the vertical in the headset's asymmetric fields of view; one inside the
-    // window, where the sun's glow sits near its edge, is left out and said).
+    // pixel straight up, against the image's corners outside it (the corners' rays 52-61
+    // degrees off the vertical in the headset's asymmetric fields of view; the one at 52, on
+    // the window's wavy edge, is left out and printed).
     let f = shot(-4.0, 89.9, 2.0, "underwater-up");
     let side = SIZE / 10;
     let around = |c: f32| {
@@ -91,7 +96,7 @@ fn looking_up_from_four_metres_shows_snells_window() {
             let off = ray_of(&f, eye, x, y).y.acos().to_degrees();
             let (_, l) = mean(&f, eye, around(x as f32), around(y as f32));
             println!("eye {eye}: corner ({x}, {y}) {off:.1} degrees off the vertical: {l:.4}");
-            if off > 50.0 {
+            if off > OUTSIDE_WINDOW_DEG {
                 outside.push(l);
             }
         }

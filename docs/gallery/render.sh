@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The README's gallery: six sea states and times of day, rendered headless at 1024x1024 per
+# The README's gallery: six sea states and times of day and two views from the water, rendered headless at 1024x1024 per
 # eye (the left eye is kept, as JPEG), each from its camera path here, with the device's default
 # MSAA (4 on a GPU, 1 on lavapipe, where specular AA still keeps the far sea calm), after 12 s
 # of simulated time (--settle: the whitecaps settled). On two cores of lavapipe it takes about
@@ -29,3 +29,5 @@ render fresh_low_sun --wind 14 --sun-elevation 12 --sun-azimuth -60  --turbidity
 render gale          --wind 20 --sun-elevation 35 --sun-azimuth 120  --turbidity 10 --clouds 1
 render broken_cloud  --wind 12 --sun-elevation 40 --sun-azimuth -150 --turbidity 2.5 --clouds 0.5
 render sunset        --wind 6  --sun-elevation 1.5 --sun-azimuth -90 --turbidity 4 --fetch 1000
+render under         --wind 5  --sun-elevation 60 --sun-azimuth -120 --turbidity 2.5
+render waterline     --wind 4  --sun-elevation 10 --sun-azimuth -120 --turbidity 2.5

@@ -224,7 +224,7 @@ fn costs_from(dir: &std::path::Path) -> Result<PathCosts, Box<dyn std::error::Er
                 .collect(),
         );
     }
-    let m: [&[u32]; 10] = std::array::from_fn(|i| words[i].as_slice());
+    let m: [&[u32]; 12] = std::array::from_fn(|i| words[i].as_slice());
     PathCosts::of_modules(m).map_err(|e| format!("--costs-from {}: {e}", dir.display()).into())
 }
 
@@ -348,6 +348,8 @@ fn measure(
             &mut counts.plain,
             &mut counts.detail,
             &mut counts.knee,
+            &mut counts.below,
+            &mut counts.depths,
             &mut counts.aniso_taps,
             &mut counts.fragment_invocations,
         ] {

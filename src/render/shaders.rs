@@ -23,9 +23,14 @@ pub const OCEAN_VERT_MULTIVIEW: &[u32] = spirv!("ocean_mv.vert");
 pub const OCEAN_VERT: &[u32] = spirv!("ocean.vert");
 /// Ocean fragment shader.
 pub const OCEAN_FRAG: &[u32] = spirv!("ocean.frag");
+/// Ocean fragment shader with the view from under the water and the waterline (issue 45), for
+/// frames some of which are under it.
+pub const OCEAN_FRAG_UNDER: &[u32] = spirv!("ocean_under.frag");
 /// Ocean fragment shader for a pass with a fragment density map (fixed foveation): peripheral
 /// fragments, which cover several pixels, never take the supersampled path.
 pub const OCEAN_FRAG_FDM: &[u32] = spirv!("ocean_fdm.frag");
+/// The same with the view from under the water.
+pub const OCEAN_FRAG_FDM_UNDER: &[u32] = spirv!("ocean_fdm_under.frag");
 /// Ocean fragment shader tallying its pixels' paths into a storage buffer (binding 6): the
 /// counting variant of `vr-ocean gpu-budget`.
 pub const OCEAN_FRAG_COUNT: &[u32] = spirv!("ocean_count.frag");
@@ -67,6 +72,10 @@ pub mod cost {
     /// Water shaded once, its colour through the tone curve's knee (every other variant takes
     /// the curve's linear part only).
     pub const KNEE: &[u32] = spirv!("cost_knee.frag");
+    /// The surface seen from under the water (issue 45).
+    pub const BELOW: &[u32] = spirv!("cost_below.frag");
+    /// The water itself, where a ray from under the water meets nothing.
+    pub const DEPTHS: &[u32] = spirv!("cost_depths.frag");
 }
 
 /// The calibration kernels' geometry: one triangle over the viewport or a grid of small ones
@@ -101,11 +110,13 @@ pub mod calibration {
 }
 
 /// Every module with its name, for validation with `spirv-val`.
-pub const ALL: [(&str, &[u32]); 31] = [
+pub const ALL: [(&str, &[u32]); 36] = [
     ("ocean_mv.vert", OCEAN_VERT_MULTIVIEW),
     ("ocean.vert", OCEAN_VERT),
     ("ocean.frag", OCEAN_FRAG),
+    ("ocean_under.frag", OCEAN_FRAG_UNDER),
     ("ocean_fdm.frag", OCEAN_FRAG_FDM),
+    ("ocean_fdm_under.frag", OCEAN_FRAG_FDM_UNDER),
     ("ocean_count.frag", OCEAN_FRAG_COUNT),
     ("cost_sky.frag", cost::SKY),
     ("cost_single.frag", cost::SINGLE),
@@ -116,6 +127,9 @@ pub const ALL: [(&str, &[u32]); 31] = [
     ("cost_detail.frag", cost::DETAIL),
     ("cost_ocean.vert", cost::VERTEX),
     ("cost_union.frag", cost::UNION),
+    ("cost_knee.frag", cost::KNEE),
+    ("cost_below.frag", cost::BELOW),
+    ("cost_depths.frag", cost::DEPTHS),
     ("solid_mv.vert", SOLID_VERT_MULTIVIEW),
     ("solid.vert", SOLID_VERT),
     ("solid.frag", SOLID_FRAG),

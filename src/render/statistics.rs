@@ -182,7 +182,7 @@ pub struct WaterPath {
 
 /// The ocean's shading paths as pipelines of their own: each cost variant's fragment shader
 /// with the ocean's vertex shader, in the ocean's pass.
-pub const WATER_PATHS: [WaterPath; 9] = {
+pub const WATER_PATHS: [WaterPath; 11] = {
     use super::shaders::cost;
     const fn path(name: &'static str, label: &'static str, module: &'static [u32]) -> WaterPath {
         WaterPath {
@@ -213,6 +213,8 @@ pub const WATER_PATHS: [WaterPath; 9] = {
             "water path: single through the tone curve's knee",
             cost::KNEE,
         ),
+        path("below", "water path: the surface from below", cost::BELOW),
+        path("depths", "water path: the depths", cost::DEPTHS),
     ]
 };
 

@@ -78,6 +78,17 @@ pub fn adreno_estimate(
     let (foam, plain, detail, vertex) =
         (get("foam")?, get("plain")?, get("detail")?, get("vertex")?);
     let knee = get("knee")?;
+    // The view from under the water: needed only where a view drew it (reports recorded
+    // before issue 45 have no such paths).
+    let under = |count: u64, name: &str| match get(name) {
+        Some(s) => Some((count as f64, slots(s), texture(s))),
+        None if count == 0 => Some((0.0, 0.0, 0.0)),
+        None => None,
+    };
+    let (below, depths) = (
+        under(counts.below, "below")?,
+        under(counts.depths, "depths")?,
+    );
     let n = |x: u64| x as f64;
     // (fragments, slots, texture instructions): whole paths, then what the extras add.
     let extra = |a: ShaderStats, b: ShaderStats, f: fn(ShaderStats) -> f64| (f(a) - f(b)).max(0.0);
@@ -101,6 +112,8 @@ pub fn adreno_estimate(
         adds(counts.detail, detail, single),
         // The tone curve's knee, where the light reaches it (the paths leave it out).
         adds(counts.knee, knee, single),
+        below,
+        depths,
     ];
     let gpu = &headset.gpu;
     let kept = 1.0 - headset.foveation.saving();

@@ -19,7 +19,7 @@ pub mod calibration;
 pub mod headset;
 pub mod spirv;
 mod views;
-pub use views::{budget_views, StandardView, STRESS_VIEW, TOP_DECK, VIEWS};
+pub use views::{budget_views, StandardView, STRESS_VIEW, TOP_DECK, UNDER, VIEWS, WATERLINE};
 
 use self::spirv::InstructionCounts;
 use crate::render::shaders::cost;
@@ -221,6 +221,13 @@ pub struct PathCounts {
     /// ones: `tonemap` in `shaders/common.glsl`); the paths' costs leave the knee out.
     #[serde(default)]
     pub knee: u64,
+    /// Water fragments drawn from under the water: the surface seen from below (issue 45).
+    #[serde(default)]
+    pub below: u64,
+    /// Fragments where a ray from under the water meets nothing: the depths (the sky's
+    /// fragments under the water).
+    #[serde(default)]
+    pub depths: u64,
     /// Triangles out of the clipper (pipeline statistics: those the rasterizer set up, the
     /// solids' included); 0 when unavailable.
     pub clipped_primitives: u64,
@@ -265,7 +272,7 @@ impl PathCounts {
 
     /// Fragments the counting shader tallied (sky and water).
     pub fn tallied(&self) -> u64 {
-        self.sky + self.single + self.supersampled + self.plain
+        self.sky + self.single + self.supersampled + self.plain + self.below + self.depths
     }
 }
 
@@ -294,11 +301,17 @@ pub struct PathCosts {
     /// What the tone curve's knee adds to a fragment whose colour reaches it.
     #[serde(default)]
     pub knee: InstructionCounts,
+    /// The surface seen from under the water.
+    #[serde(default)]
+    pub below: InstructionCounts,
+    /// The water where a ray from under it meets nothing.
+    #[serde(default)]
+    pub depths: InstructionCounts,
 }
 
 /// The cost variants' module names (`COST_SHADERS` in `shaders/shader_table.rs`), in the order
 /// [`PathCosts::of_modules`] takes them.
-pub const COST_MODULES: [&str; 10] = [
+pub const COST_MODULES: [&str; 12] = [
     "cost_sky.frag",
     "cost_single.frag",
     "cost_super0.frag",
@@ -309,6 +322,8 @@ pub const COST_MODULES: [&str; 10] = [
     "cost_detail.frag",
     "cost_union.frag",
     "cost_knee.frag",
+    "cost_below.frag",
+    "cost_depths.frag",
 ];
 
 impl PathCosts {
@@ -325,12 +340,14 @@ impl PathCosts {
             cost::DETAIL,
             cost::UNION,
             cost::KNEE,
+            cost::BELOW,
+            cost::DEPTHS,
         ])
     }
 
     /// Counts cost variants given in [`COST_MODULES`] order (e.g. those of another version of
     /// the shaders, to compare).
-    pub fn of_modules(m: [&[u32]; 10]) -> Result<Self, spirv::CountError> {
+    pub fn of_modules(m: [&[u32]; 12]) -> Result<Self, spirv::CountError> {
         let single = spirv::count(m[1])?;
         let supersampled = spirv::count(m[2])?;
         Ok(Self {
@@ -344,6 +361,8 @@ impl PathCosts {
             detail: spirv::count(m[7])?.minus(single),
             union: spirv::count(m[8])?,
             knee: spirv::count(m[9])?.minus(single),
+            below: spirv::count(m[10])?,
+            depths: spirv::count(m[11])?,
         })
     }
 }
@@ -419,6 +438,8 @@ pub fn estimate(
         (n(counts.plain), costs.plain),
         (n(counts.detail), costs.detail),
         (n(counts.knee), costs.knee),
+        (n(counts.below), costs.below),
+        (n(counts.depths), costs.depths),
     ];
     let kept = 1.0 - headset.foveation.saving();
     let alu: f64 = paths.iter().map(|(k, c)| k * slots(*c)).sum::<f64>() * kept;

@@ -54,9 +54,30 @@ pub const TOP_DECK: StandardView = StandardView {
     pitch: -15.0,
 };
 
-/// The views `vr-ocean gpu-budget` prices: [`VIEWS`] and [`TOP_DECK`].
-pub fn budget_views() -> [&'static StandardView; 5] {
-    [&VIEWS[0], &VIEWS[1], &VIEWS[2], &VIEWS[3], &TOP_DECK]
+/// Under the water (issue 45): a swimmer's head 2 m down looking 15 degrees up, Snell's window
+/// in the upper half, the surface's underside and the depths below it.
+pub const UNDER: StandardView = StandardView {
+    name: "under",
+    height: -2.0,
+    yaw: 0.0,
+    pitch: 15.0,
+};
+
+/// At the waterline: the eyes at the mean level looking level, the near plane across the
+/// surface (each pixel decides its side), the sky above and the water below.
+pub const WATERLINE: StandardView = StandardView {
+    name: "waterline",
+    height: 0.0,
+    yaw: 0.0,
+    pitch: 0.0,
+};
+
+/// The views `vr-ocean gpu-budget` prices: [`VIEWS`], [`TOP_DECK`], [`UNDER`] and
+/// [`WATERLINE`].
+pub fn budget_views() -> [&'static StandardView; 7] {
+    [
+        &VIEWS[0], &VIEWS[1], &VIEWS[2], &VIEWS[3], &TOP_DECK, &UNDER, &WATERLINE,
+    ]
 }
 
 /// The stress view the gate leaves out: reported, not gated (no user's eye is that high).

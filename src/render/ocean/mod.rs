@@ -312,6 +312,8 @@ impl OceanRenderer {
             set: slot.set,
             area: self.area,
             vertices_per_side: self.pass.vertices_per_side,
+            // The pipeline with the view from below only where the frame needs it.
+            under: globals.underwater[0] > 0.5,
             resolve_after: self
                 .pipelines
                 .layout_of_pass

@@ -213,6 +213,9 @@ pub(super) struct PassRecorder<'a> {
     /// GPU-time governor lowers the render scale (same projection, fewer pixels).
     pub area: vk::Rect2D,
     pub vertices_per_side: u32,
+    /// Some of the frame is drawn from under the water ([`super::Underwater`] not `Above`):
+    /// the ocean pipeline with the water's paths from below ([`Pipelines::ocean_under`]).
+    pub under: bool,
     /// Two passes with MSAA: resolve each eye after its pass, from this multisampled image
     /// into layer `eye` of this eye image.
     pub resolve_after: Option<ResolveAfter>,
@@ -240,6 +243,7 @@ impl PassRecorder<'_> {
         solids: &[(u32, u32); 3],
     ) -> u32 {
         let (d, cmd, p) = (self.device, self.cmd, self.pipelines);
+        let ocean = if self.under { p.ocean_under } else { p.ocean };
         let clear = [
             vk::ClearValue {
                 color: vk::ClearColorValue {
@@ -282,7 +286,7 @@ impl PassRecorder<'_> {
             d.cmd_begin_render_pass(cmd, &begin, vk::SubpassContents::INLINE);
             d.cmd_set_viewport(cmd, 0, &[viewport]);
             d.cmd_set_scissor(cmd, 0, &[area]);
-            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.ocean);
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, ocean);
             d.cmd_bind_descriptor_sets(
                 cmd,
                 vk::PipelineBindPoint::GRAPHICS,
@@ -341,7 +345,7 @@ impl PassRecorder<'_> {
                         draws += 1;
                     }
                 }
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.ocean);
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, ocean);
             }
             // The sky: mode 2 of the ocean's pipeline, vertices from gl_VertexIndex (indexed
             // with 0, 1, 2: lavapipe's multiview drew a non-indexed draw into the first view

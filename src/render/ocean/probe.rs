@@ -13,7 +13,7 @@ use crate::render::error::RenderError;
 use crate::render::memory::Buffer;
 
 /// Tallies the shader writes (`t_paths.tally` in `shaders/ocean.frag`, `COUNT_*` order).
-const TALLIES: usize = 8 + 2 * PathCounts::AREA_BINS + 3 + 1;
+const TALLIES: usize = 8 + 2 * PathCounts::AREA_BINS + 3 + 3;
 
 /// The counting pass's buffer and queries.
 pub(super) struct PathProbe {
@@ -160,6 +160,8 @@ impl PathProbe {
                 per_frame(t[8 + PathCounts::AREA_BINS + 3 + b].into())
             }),
             knee: per_frame(t[8 + 2 * PathCounts::AREA_BINS + 3].into()),
+            below: per_frame(t[8 + 2 * PathCounts::AREA_BINS + 4].into()),
+            depths: per_frame(t[8 + 2 * PathCounts::AREA_BINS + 5].into()),
             vertex_invocations: per_frame(self.invocations[0]),
             clipped_primitives: per_frame(self.invocations[2]),
             fragment_invocations: per_frame(self.invocations[3]),

@@ -1,10 +1,14 @@
 //! Fly-around head control for the window: WASD moves in the horizontal plane, Q/E lowers and
-//! raises the head, the mouse (while a button is held) turns it. Pure state, no window types,
-//! so it is tested without a display.
+//! raises the head (Q takes it under the water, to [`DEEPEST_M`]), the mouse (while a button
+//! is held) turns it. Pure state, no window types, so it is tested without a display.
 
 use glam::{Quat, Vec3};
 
 use super::path::head_orientation;
+
+/// The deepest the head goes under the mean sea (m): the daylight there is a few percent of
+/// the surface's in the blue, and nothing below is drawn (no sea floor).
+pub const DEEPEST_M: f32 = 50.0;
 
 /// The movement keys.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -87,8 +91,8 @@ impl FlyControls {
                 1.0
             };
         self.position += dir * speed * dt;
-        // Keep the head above the sea and inside the LOD's coordinate range.
-        self.position.y = self.position.y.clamp(0.3, 5000.0);
+        // Keep the head within the water's lit depths and the LOD's coordinate range.
+        self.position.y = self.position.y.clamp(-DEEPEST_M, 5000.0);
         let lim = 1.0e6;
         self.position.x = self.position.x.clamp(-lim, lim);
         self.position.z = self.position.z.clamp(-lim, lim);
@@ -116,8 +120,14 @@ mod tests {
         );
         c.key(MoveKey::Forward, false);
         c.key(MoveKey::Down, true);
-        c.update(10.0);
-        assert_eq!(c.position.y, 0.3);
+        c.update(1.0);
+        assert!(
+            (c.position.y + 2.3).abs() < 1e-4,
+            "Q goes under the water: {}",
+            c.position
+        );
+        c.update(100.0);
+        assert_eq!(c.position.y, -DEEPEST_M);
         c.look(0.0, -10_000.0);
         assert_eq!(c.pitch, 89.0);
     }

@@ -52,6 +52,8 @@ pub fn predict(rates: &DeviceRates, costs: &PathCosts, counts: &PathCounts) -> P
         (n(counts.plain), costs.plain),
         (n(counts.detail), costs.detail),
         (n(counts.knee), costs.knee),
+        (n(counts.below), costs.below),
+        (n(counts.depths), costs.depths),
     ];
     // Each fragment pays its own path's work, and on a device whose lanes run branches they
     // did not take (σ), the share σ of every path's (the union's).

@@ -225,6 +225,8 @@ fn a_cpu_adds_texture_and_alu_time_and_small_triangles_cost_more() {
         vertex: cost(200, 3),
         union: cost(1500, 30),
         knee: cost(40, 0),
+        below: cost(500, 4),
+        depths: cost(60, 1),
     };
     let mut c = PathCounts {
         sky: 1000,
