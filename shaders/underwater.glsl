@@ -74,12 +74,10 @@ vec3 underwater_colour(vec3 ray, vec2 dx, vec2 dy) {
 // Call in uniform control flow.
 Waterline ocean_waterline(vec3 ray) {
     Waterline w;
-    w.line = 0.0;
-    if (g.underwater.x < 0.5) {
-        w.below = false;
-    } else if (g.underwater.x < 1.5) {
-        w.below = true;
-    } else if (v_sky != 0u) {
+    if (frame_side(w)) {
+        return w;
+    }
+    if (v_sky != 0u) {
         w.below = ray.y < 0.0;
     } else {
         vec3 n = cross(dFdx(v_world), dFdy(v_world));

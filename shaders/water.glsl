@@ -106,17 +106,20 @@ struct Waterline {
     mediump float line;
 };
 
+// The frame's side (`g.underwater.x` 0 or 1) into `w`, no line; false where each pixel decides
+// (2): the caller's test then fills `w`.
+bool frame_side(out Waterline w) {
+    w.below = g.underwater.x > 0.5;
+    w.line = 0.0;
+    return g.underwater.x < 1.5;
+}
+
 // For a solid's pixel along `ray` from `eye`: the side of its point on the near plane (the
 // ocean's own pixels follow the mesh instead, `underwater.glsl`). Call in uniform control flow
 // (the line's width takes screen derivatives).
 Waterline waterline_at_near_plane(vec3 ray, vec3 eye) {
     Waterline w;
-    w.line = 0.0;
-    if (g.underwater.x < 0.5) {
-        w.below = false;
-    } else if (g.underwater.x < 1.5) {
-        w.below = true;
-    } else {
+    if (!frame_side(w)) {
         float over = over_surface(ray, eye);
         w.below = over < 0.0;
         float width = 1.5 * fwidth(over) + 1e-4;

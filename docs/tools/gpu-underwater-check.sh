@@ -11,26 +11,8 @@ set -u
 bin=${1:?usage: gpu-underwater-check.sh BINARY OUT_DIR [DEBS_DIR]}
 out=${2:?usage: gpu-underwater-check.sh BINARY OUT_DIR [DEBS_DIR]}
 debs=${3:-}
-mkdir -p "$out"
-if [ -n "$debs" ]; then
-    for f in "$debs"/*.deb; do dpkg -x "$f" /; done
-    ldconfig
-fi
-icd=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
-if [ -f "$icd" ]; then
-    export VK_DRIVER_FILES=$icd
-fi
-export RUST_BACKTRACE=0
-{
-    date -u
-    uname -a
-    nvidia-smi --query-gpu=name,driver_version,clocks.max.sm,clocks.max.mem,power.limit \
-        --format=csv 2>&1
-    nproc
-} >"$out/machine.txt" 2>&1
-nvidia-smi --query-gpu=timestamp,clocks.sm,clocks.gr,clocks.mem,power.draw,temperature.gpu,utilization.gpu \
-    --format=csv -lms 250 >"$out/clocks.csv" 2>&1 &
-clocks=$!
+# shellcheck source=device-common.sh
+. "$(dirname "${BASH_SOURCE[0]}")/device-common.sh"
 status=0
 paths=$(mktemp -d)
 shot() { # name height pitch wind frames capture

@@ -41,11 +41,6 @@ impl Submerged {
         }
     }
 
-    /// How far under the ears are now (0 in the air, 1 under).
-    pub fn immersion(&self) -> f32 {
-        self.immersion
-    }
-
     /// What is left of the air's sound now: the wind's gain for the coming block.
     pub fn air_gain(&self) -> f32 {
         1.0 - (1.0 - AIR_UNDER) * self.immersion
