@@ -72,6 +72,8 @@ layout(set = 0, binding = 0, std140) uniform Globals {
     // Under the surface: x the side the view is drawn from (0 above, 1 below, 2 per pixel from
     // its point on the near plane); y how deep (m) the eyes are (negative above the water).
     vec4 underwater;
+    // The comfort vignette's strength (x, 0 to 1; `render::ocean::vignette`).
+    vec4 vignette;
 } g;
 
 // The interaction layer (`render::ocean::interaction`): h (m), ∂h/∂x, ∂h/∂z, foam; clamped,

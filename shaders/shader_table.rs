@@ -19,6 +19,10 @@ pub const SHADERS: &[(&str, &str, &[&str])] = &[
     ("solid.vert", "solid_mv.vert", &["MULTIVIEW=1"]),
     ("solid.vert", "solid.vert", &[]),
     ("solid.frag", "solid.frag", &[]),
+    // The comfort vignette (`render::ocean::vignette`).
+    ("vignette.vert", "vignette_mv.vert", &["MULTIVIEW=1"]),
+    ("vignette.vert", "vignette.vert", &[]),
+    ("vignette.frag", "vignette.frag", &[]),
     ("panel.vert", "panel.vert", &[]),
     ("panel.frag", "panel.frag", &[]),
     // The calibration kernels' geometry (`render::calibration`).

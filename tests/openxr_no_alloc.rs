@@ -27,6 +27,8 @@ const NAME: &str = "openxr_frame_loop_allocates_nothing_per_frame";
 const CLIENT_ENV: &str = "VR_OCEAN_NO_ALLOC_CLIENT";
 /// Set for the client run with the control panel open.
 const PANEL_ENV: &str = "VR_OCEAN_NO_ALLOC_PANEL";
+/// Set for the client run floating in the water (issue 45), bodies and their waves on.
+const FLOAT_ENV: &str = "VR_OCEAN_NO_ALLOC_FLOAT";
 const FROM: u64 = 40;
 const TO: u64 = 120;
 
@@ -66,11 +68,13 @@ impl RunHooks for CountFrames {
 
 /// Inside the root: a session of `TO + 10` frames, counting allocations in between.
 fn client() {
+    let float = std::env::var_os(FLOAT_ENV).is_some();
     let mut xr = OpenXr::new(OpenXrOptions {
         frames: Some(TO + 10),
         validation: Validation::Off,
         // The depth swapchain's acquire/release and layer chain are counted too.
         submit_depth: true,
+        in_water: float,
         ..OpenXrOptions::default()
     })
     .unwrap_or_else(|e| panic!("OpenXR set-up: {e}"));
@@ -87,6 +91,18 @@ fn client() {
     // With the panel open, egui runs (and allocates) only on frames where the panel changed.
     let panel = std::env::var_os(PANEL_ENV).is_some();
     opts.panel_open = panel;
+    if float {
+        // The deck and the interaction layer the user's body makes waves in. No bodies:
+        // rapier 0.36 allocates in every step with bodies in it (`physics_no_alloc.rs` pins
+        // that separately); without them any allocation here is the float mode's or ours.
+        opts.floating = Some(vr_ocean::app::floating::FloatOptions {
+            bodies: vr_ocean::physics::BodyCount::new(0).expect("zero bodies"),
+            deck: vr_ocean::app::floating::DeckPlacement::At(2.9),
+            interaction: Some(vr_ocean::app::floating::interaction_for(
+                vr_ocean::lod::QualityPreset::Low,
+            )),
+        });
+    }
     let mut hooks = CountFrames {
         counted: None,
         last: 0,
@@ -114,6 +130,19 @@ fn client() {
         );
         let few = hooks.redraws * 10 <= TO - FROM;
         std::process::exit(if quiet == 0 && few && summary.frames_with_panel > TO {
+            0
+        } else {
+            1
+        });
+    }
+    if float {
+        println!(
+            "in the water: allocations in {} steady-state OpenXR frames: {n} ({} frames \
+             afloat)",
+            TO - FROM,
+            summary.afloat.frames
+        );
+        std::process::exit(if n == 0 && summary.afloat.frames > TO {
             0
         } else {
             1
@@ -160,6 +189,24 @@ fn openxr_frame_loop_allocates_nothing_per_frame() {
     assert!(
         run.stdout.contains(&format!(
             "panel open: allocations in {} steady-state OpenXR frames: 0 outside",
+            TO - FROM
+        )),
+        "{run}"
+    );
+    assert!(run.success(), "{run}");
+    // Floating in the water: the ride, the swim and the body's waves every frame.
+    let service = Monado::start(&root, "noalloc-float");
+    let run = service.client(
+        &exe,
+        &[],
+        &[(CLIENT_ENV, "1"), (FLOAT_ENV, "1"), ("RUST_LOG", "warn")],
+        Duration::from_secs(300),
+    );
+    let _ = service.finish();
+    println!("{}", run.stdout.trim_end());
+    assert!(
+        run.stdout.contains(&format!(
+            "in the water: allocations in {} steady-state OpenXR frames: 0 ",
             TO - FROM
         )),
         "{run}"

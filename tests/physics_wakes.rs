@@ -192,3 +192,41 @@ fn a_hand_in_the_water_ripples_it() {
     println!("a hand swept 1 m through the water at 1 m/s: {energy:.3} J of ripples");
     assert!(energy > 0.01, "{energy}");
 }
+
+/// Issue 45: a user floating in the water makes waves with the body, and a wake swimming
+/// (more than at rest); standing over the water, or with the layer off, nothing.
+#[test]
+fn a_floating_user_s_body_makes_waves_and_a_wake() {
+    let energy_after = |speed: f32| {
+        let (surfaces, mut world) = flat_sea_without_deck();
+        let c = InteractionConfig::default_with_dt(PHYSICS_DT).unwrap();
+        world.set_interaction(Some(c), Vec2::ZERO);
+        let v = Vec3::new(0.0, 0.0, -speed);
+        for i in 0..(2.0 / PHYSICS_DT) as usize {
+            let head = Vec3::new(0.0, 0.15, 0.5 - speed * i as f32 * PHYSICS_DT);
+            assert!(
+                world.wade(head, v, &surfaces),
+                "step {i}: the body is in the water"
+            );
+            world.step(&surfaces);
+        }
+        world.interaction().unwrap().stats().energy_j
+    };
+    let (surfaces, mut world) = flat_sea_without_deck();
+    assert!(
+        !world.wade(Vec3::new(0.0, 0.15, 0.0), Vec3::ZERO, &surfaces),
+        "no layer"
+    );
+    let c = InteractionConfig::default_with_dt(PHYSICS_DT).unwrap();
+    world.set_interaction(Some(c), Vec2::ZERO);
+    assert!(
+        !world.wade(Vec3::new(0.0, 1.7, 0.0), Vec3::ZERO, &surfaces),
+        "standing over it"
+    );
+    let (rest, swim) = (energy_after(0.0), energy_after(1.2));
+    println!(
+        "a floating body for 2 s: {rest:.3} J of waves at rest, {swim:.3} J swimming at 1.2 m/s"
+    );
+    assert!(rest > 0.001, "{rest}");
+    assert!(swim > 2.0 * rest, "no wake: {swim} vs {rest} J at rest");
+}

@@ -26,6 +26,7 @@ fn model() -> PanelModel {
         clouds: 0.3,
         bodies: 4,
         comfort: Comfort::default(),
+        in_water: false,
         perf: Perf {
             frame_ms: 11.1,
             gpu_ms: Some(7.9),

@@ -285,3 +285,66 @@ fn in_a_storm_every_frame_is_drawn_from_the_side_the_eye_is_on() {
     }
     assert_eq!(mismatches, 0);
 }
+
+/// The float mode's comfort vignette (issue 45): at full strength, the view within 30° of each
+/// eye's axis is untouched, and beyond the feather (42°) the frame is black, in both eyes;
+/// the same frame without it is bright there.
+#[test]
+fn the_comfort_vignette_narrows_the_view_around_each_eyes_axis() {
+    let mut opts = gpu::small_options(StereoMode::TwoPass, vec![1]);
+    opts.ocean = sea(8.0);
+    let path = || gpu::standing(4.6, 0.0, -10.0);
+    let plain = {
+        let (_, mut frames) = gpu::render(&opts, path(), 2, SIZE, SIZE);
+        frames.pop().expect("the captured frame")
+    };
+    let mut hooks = gpu::Collect(Vec::new());
+    gpu::render_set_up(&opts, path(), 2, SIZE, SIZE, &mut hooks, |xr| {
+        xr.show_vignette(1.0)
+    });
+    let narrowed = hooks.0.pop().expect("the captured frame");
+    println!("vignette: {}", narrowed.save("vignette").display());
+    for eye in 0..2 {
+        let forward = narrowed.state.views[eye].orientation * Vec3::NEG_Z;
+        let (mut inside, mut outside, mut outside_plain) = ((0.0, 0.0), 0.0, 0.0);
+        let mut n_out = 0.0;
+        for y in 0..SIZE {
+            for x in 0..SIZE {
+                let angle = ray_of(&narrowed, eye, x, y)
+                    .angle_between(forward)
+                    .to_degrees();
+                let (a, b) = (narrowed.pixel(eye, x, y), plain.pixel(eye, x, y));
+                if angle < 28.0 {
+                    let d: i32 = (0..3)
+                        .map(|c| (a[c] as i32 - b[c] as i32).abs())
+                        .max()
+                        .unwrap();
+                    inside.0 += d as f64;
+                    inside.1 += 1.0;
+                } else if angle > 44.0 {
+                    outside += luminance(a);
+                    outside_plain += luminance(b);
+                    n_out += 1.0;
+                }
+            }
+        }
+        let inside_diff = inside.0 / inside.1;
+        println!(
+            "eye {eye}: inside 28° mean |Δ| {inside_diff:.3} ({} px); beyond 44° luminance \
+             {:.4} vs {:.4} without ({n_out} px)",
+            inside.1,
+            outside / n_out,
+            outside_plain / n_out
+        );
+        assert!(
+            inside.1 > 1000.0 && n_out > 500.0,
+            "too few pixels to judge"
+        );
+        assert!(inside_diff < 0.01, "the clear field changed: {inside_diff}");
+        assert!(outside / n_out < 1e-3, "the periphery is not dark");
+        assert!(
+            outside_plain / n_out > 0.05,
+            "the plain frame is dark there too"
+        );
+    }
+}

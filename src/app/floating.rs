@@ -92,6 +92,8 @@ pub struct Afloat {
     hands: [Hand; 2],
     /// Whether each hand was in the water last frame (a haptic tick as it goes in).
     wet: [bool; 2],
+    /// The floating user's head last frame (its velocity drives the body's wake).
+    swimmer: Option<Vec3>,
     solids: Vec<Solid>,
     /// This frame's impacts (bodies and hands), timed on the frames' clock.
     impacts: Vec<Impact>,
@@ -112,6 +114,7 @@ impl Afloat {
             world: None,
             hands: [Hand::new(); 2],
             wet: [false; 2],
+            swimmer: None,
             solids: Vec::with_capacity(MAX_SOLIDS),
             impacts: Vec::with_capacity(MAX_IMPACTS + 2),
         })
@@ -187,6 +190,14 @@ impl Afloat {
                 });
             }
             self.wet[i] = wet;
+        }
+        // A floating user's body makes waves too, and a wake as it swims.
+        let last = std::mem::take(&mut self.swimmer);
+        if frame.in_water {
+            let dt = frame.period.max(1e-4) as f32;
+            let velocity = last.map_or(Vec3::ZERO, |p| (viewer - p) / dt);
+            world.wade(viewer, velocity, surfaces);
+            self.swimmer = Some(viewer);
         }
         world.advance(Duration::from_secs_f64(frame.period.max(0.0)), surfaces);
         // The bodies' impacts, from the physics clock to the frames' (the step that ends

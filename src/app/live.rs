@@ -46,6 +46,8 @@ impl Chosen {
             smooth_turn: self.comfort.smooth_turn,
             seated: self.comfort.seated,
             deck_height_m: Some(self.comfort.deck_height_m),
+            ride_waves: self.comfort.ride_waves,
+            vignette: self.comfort.vignette,
             ..Settings::default()
         }
     }

@@ -27,6 +27,7 @@ pub use floating::{interaction_for, Afloat, DeckPlacement, FloatOptions};
 pub use govern::{GovernorChange, GovernorOptions, GpuFault};
 pub use report::RunReport;
 pub use sound::{SoundOptions, SoundReport, SoundSink};
+use timing::RunStats;
 pub use timing::{FrameTimes, Percentiles, Timing};
 
 /// Why a run stopped.
@@ -206,6 +207,8 @@ struct Frames<'a> {
     panel: Option<panel::PanelHost>,
     /// The user asked to quit (the panel): the session ends before the next frame.
     quit: bool,
+    /// The user floated in the water last frame (the panel's button reads from it).
+    in_water: bool,
     /// Whether a simulation step is in flight (started for the coming frame's world time).
     in_flight: bool,
     /// Display time to world time across the user's absences (`FrameState::paused`).
@@ -215,19 +218,6 @@ struct Frames<'a> {
     /// A change not kept yet, and since when it has stood.
     changed: Option<(live::Chosen, Instant)>,
     stats: RunStats,
-}
-
-/// What the loop measures: the timings, draws and the window's statistics line.
-struct RunStats {
-    times: FrameTimes,
-    max_draws: u32,
-    /// Triangles drawn over the timed frames, and how many frames that is.
-    triangles: u64,
-    triangle_frames: u64,
-    frames: u64,
-    recent: live::RecentFrames,
-    text: String,
-    shown_at: Instant,
 }
 
 /// What one frame measured on the way.
@@ -293,20 +283,12 @@ impl<'a> Frames<'a> {
             ears,
             panel,
             quit: false,
+            in_water: false,
             in_flight: false,
             clock: clock::WorldClock::default(),
             kept: None,
             changed: None,
-            stats: RunStats {
-                times: FrameTimes::with_capacity(16_384),
-                max_draws: 0,
-                triangles: 0,
-                triangle_frames: 0,
-                frames: 0,
-                recent: live::RecentFrames::default(),
-                text: String::with_capacity(256),
-                shown_at: Instant::now(),
-            },
+            stats: RunStats::new(),
         })
     }
 
@@ -342,6 +324,12 @@ impl<'a> Frames<'a> {
             self.in_flight = false;
         }
         let sim_wait = wait.elapsed();
+        // The sea under the head, for a floating user's next frame (as a body feels it).
+        let surface = self.sim.surfaces();
+        let radius = crate::physics::wakes::SWIMMER_RADIUS;
+        self.xr
+            .report_water(surface.footprint_height_at(viewer.x, viewer.z, radius));
+        self.in_water = frame.in_water;
         let sim_step = self.sim.last_step_time();
         // Live changes (window keys, controllers) apply from the step started next.
         self.apply_tweaks(&frame)?;
@@ -482,6 +470,7 @@ impl<'a> Frames<'a> {
                     .as_ref()
                     .and_then(|a| a.world())
                     .and_then(|w| w.interaction()),
+                vignette: frame.vignette,
             },
         )?;
         self.xr.report_cpu_wait(report.wait);

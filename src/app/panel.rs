@@ -135,6 +135,9 @@ impl Frames<'_> {
             }
         }
         let r = update.requests;
+        if r.water {
+            self.xr.set_in_water(!frame.in_water);
+        }
         if r.spawn_body {
             self.spawn_in_front(frame);
         }
@@ -165,6 +168,7 @@ impl Frames<'_> {
                 .and_then(|a| a.world())
                 .map_or(0, |w| w.live() as u32),
             comfort: host.comfort,
+            in_water: self.in_water,
             perf: host.perf,
         }
     }

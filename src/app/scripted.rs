@@ -401,6 +401,7 @@ mod tests {
             spawn: [0.0; 4],
             reset: [0.0; 4],
             quit: [9.0; 4],
+            water: [0.0; 4],
             perf: [0.0; 4],
         };
         for cycle in 0..20 {

@@ -1,7 +1,38 @@
 //! Frame-time samples and their percentiles, collected without allocating per frame and
-//! written as `frame_times.json`.
+//! written as `frame_times.json`, and the run's other counts ([`RunStats`]).
 
-use std::time::Duration;
+use std::time::{Duration, Instant};
+
+use super::live::RecentFrames;
+
+/// What the loop measures: the timings, draws and the window's statistics line.
+pub(super) struct RunStats {
+    pub times: FrameTimes,
+    pub max_draws: u32,
+    /// Triangles drawn over the timed frames, and how many frames that is.
+    pub triangles: u64,
+    pub triangle_frames: u64,
+    pub frames: u64,
+    pub recent: RecentFrames,
+    pub text: String,
+    pub shown_at: Instant,
+}
+
+impl RunStats {
+    /// Nothing measured yet; room for 16,384 frames' timings.
+    pub fn new() -> Self {
+        Self {
+            times: FrameTimes::with_capacity(16_384),
+            max_draws: 0,
+            triangles: 0,
+            triangle_frames: 0,
+            frames: 0,
+            recent: RecentFrames::default(),
+            text: String::with_capacity(256),
+            shown_at: Instant::now(),
+        }
+    }
+}
 
 /// The timings each frame records.
 pub const TIMINGS: [&str; 7] = [

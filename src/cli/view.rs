@@ -144,6 +144,10 @@ pub struct XrArgs {
     /// reprojection uses it (PC runtimes); off: depth stays transient.
     #[arg(long)]
     pub submit_depth: bool,
+    /// Start in the water, floating off the deck's edge (the left controller's Y goes in and
+    /// out; X held ducks under).
+    #[arg(long)]
+    pub in_water: bool,
     /// A soak: this many minutes played by a scripted user (sea state, throws, the panel,
     /// presets), through new sessions when one is lost; prints memory and open files once a
     /// minute (`cargo xtask soak`).
@@ -434,6 +438,7 @@ pub fn xr_cmd(mut a: XrArgs) -> CmdResult {
         deck_height: a.deck_height,
         preset: Some(preset(a.view.preset)),
         submit_depth: a.submit_depth,
+        in_water: a.in_water,
     };
     if let Some(minutes) = a.soak_minutes {
         let mut keeper = settings::keeper(kept.as_ref(), &a.view);

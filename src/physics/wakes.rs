@@ -2,7 +2,7 @@
 //! presses the layer with its displaced volume and splashes it when it plunges in, and every
 //! body's heights include the layer's waves (their mean over its hull: `world.rs`), so a buoy
 //! heaves in a thrown crate's rings and in a boat's wake. Hands (OpenXR controllers in the
-//! water) add their own sources.
+//! water) add their own sources, and so does a floating user's body (`Floaters::wade`).
 //!
 //! A body's own hollow (the layer's steady answer to its own weight) is taken out of the
 //! heights it reads (`Wakes::height_for`): reading it, it would sink into it, deepen it and
@@ -39,6 +39,17 @@ pub const HAND_AREA: f32 = 0.015;
 
 /// A body's vertical speed (m/s) at which its entry makes full foam.
 const FOAM_ENTRY_SPEED: f32 = 3.0;
+
+/// Radius of a floating user's body at the waterline (m): the shoulders' half width, and the
+/// footprint the head's float height is averaged over.
+pub const SWIMMER_RADIUS: f32 = 0.35;
+
+/// The water a floating user's head and shoulders push aside at the surface (m³): what the
+/// body makes waves with at rest; swimming adds its dynamic pressure.
+pub const SWIMMER_VOLUME: f32 = 0.02;
+
+/// The frontal area a swimmer pushes through the water (m²).
+pub const SWIMMER_AREA: f32 = 0.12;
 
 /// The layer, its sources, and what each body put in last.
 pub(crate) struct Wakes {
@@ -157,6 +168,36 @@ impl Floaters {
                 w.hands.push(source);
             }
         }
+    }
+
+    /// A floating user whose head is at `head`, moving at `velocity` (m/s): the body under the
+    /// head presses on the water with its volume and, swimming, with its dynamic pressure
+    /// ρv²/2 over its frontal area, so it makes waves and a wake like the hands do. Returns
+    /// whether its disturbance went into the next step (the layer on, the body in the water).
+    pub fn wade(&mut self, head: Vec3, velocity: Vec3, surfaces: &Surfaces) -> bool {
+        if self.wakes.is_none() || !head.is_finite() || !velocity.is_finite() {
+            return false;
+        }
+        let surface = surfaces.height_at(head.x, head.z);
+        // The shoulders are 0.25 m under the eyes.
+        let depth = surface - (head.y - 0.25);
+        if depth.is_nan() || depth <= 0.0 {
+            return false;
+        }
+        let g = self.config().gravity;
+        let flat = Vec3::new(velocity.x, 0.0, velocity.z);
+        let dynamic = SWIMMER_AREA * flat.length_squared() / (2.0 * g);
+        let before = self.wakes.as_ref().map_or(0, |w| w.hands.len());
+        self.disturb(WaveSource {
+            x: head.x,
+            z: head.z,
+            radius: SWIMMER_RADIUS,
+            depth: (0.5 * depth).min(SWIMMER_RADIUS),
+            volume: SWIMMER_VOLUME + dynamic,
+            impulse: 0.5 * (-velocity.y).max(0.0) * SWIMMER_RADIUS,
+            foam: 0.0,
+        });
+        self.wakes.as_ref().map_or(0, |w| w.hands.len()) > before
     }
 
     /// A hand (controller) at `input` in the water of `surfaces`: when it is below the surface

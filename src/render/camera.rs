@@ -112,6 +112,9 @@ pub struct Globals {
     /// [`crate::render::ocean::Underwater`]); y how deep (m) the eyes are under the surface
     /// (negative above it; the light in the water fades with it); z, w unused.
     pub underwater: [f32; 4],
+    /// The comfort vignette's strength (x, 0 none to 1 narrowest; drawn only when above 0,
+    /// [`crate::render::ocean::vignette`]); y, z, w unused.
+    pub vignette: [f32; 4],
 }
 
 impl Globals {

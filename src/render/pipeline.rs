@@ -50,6 +50,8 @@ pub struct Pipelines {
     pub ocean_under: vk::Pipeline,
     /// The solids' pipeline: instanced unit meshes (bodies, deck), back faces culled.
     pub solids: vk::Pipeline,
+    /// The comfort vignette's: blended over the frame, no depth (`ocean::vignette`).
+    pub vignette: vk::Pipeline,
     /// The ocean's fragment shader is the counting variant (`vr-ocean gpu-budget`).
     pub counting: bool,
 }
@@ -97,6 +99,7 @@ impl Pipelines {
             ocean: vk::Pipeline::null(),
             ocean_under: vk::Pipeline::null(),
             solids: vk::Pipeline::null(),
+            vignette: vk::Pipeline::null(),
             counting,
         };
         if let Err(e) = this.create(ctx) {
@@ -210,6 +213,7 @@ impl Pipelines {
         };
         self.ocean_under = build(ctx, &ocean_program(under_label, multiview, under), target)?;
         self.solids = build(ctx, &solid_program(multiview), target)?;
+        self.vignette = build(ctx, &vignette_program(multiview), target)?;
         Ok(())
     }
 
@@ -221,6 +225,7 @@ impl Pipelines {
             d.destroy_pipeline(self.ocean, None);
             d.destroy_pipeline(self.ocean_under, None);
             d.destroy_pipeline(self.solids, None);
+            d.destroy_pipeline(self.vignette, None);
             d.destroy_pipeline_layout(self.layout, None);
             d.destroy_descriptor_set_layout(self.set_layout, None);
             d.destroy_render_pass(self.render_pass, None);
@@ -254,6 +259,9 @@ pub(crate) struct Program {
     pub attributes: Vec<vk::VertexInputAttributeDescription>,
     /// Faces culled.
     pub cull: vk::CullModeFlags,
+    /// Drawn over the frame: blended by its alpha, neither depth tested nor written (the
+    /// comfort vignette). Otherwise opaque, depth tested and written.
+    pub overlay: bool,
 }
 
 /// Binding 0 per vertex of `vertex` bytes, binding 1 per instance of `instance` bytes.
@@ -314,6 +322,7 @@ pub(crate) fn ocean_program(label: &'static str, multiview: bool, frag: &'static
         bindings: vertex_and_instance(12, std::mem::size_of::<PatchInstance>()),
         attributes,
         cull: vk::CullModeFlags::NONE,
+        overlay: false,
     }
 }
 
@@ -345,11 +354,31 @@ fn solid_program(multiview: bool) -> Program {
         ),
         attributes,
         cull: vk::CullModeFlags::BACK,
+        overlay: false,
+    }
+}
+
+/// The comfort vignette: no vertex buffers (its rings' directions from `gl_VertexIndex`),
+/// blended over the frame.
+fn vignette_program(multiview: bool) -> Program {
+    Program {
+        label: "vignette",
+        vert: if multiview {
+            shaders::VIGNETTE_VERT_MULTIVIEW
+        } else {
+            shaders::VIGNETTE_VERT
+        },
+        frag: shaders::VIGNETTE_FRAG,
+        bindings: Vec::new(),
+        attributes: Vec::new(),
+        cull: vk::CullModeFlags::NONE,
+        overlay: true,
     }
 }
 
 /// Creates `program`'s pipeline against `target`: triangle lists, depth tested (`GREATER`,
-/// reversed Z) and written, colour written without blending, viewport and scissor dynamic.
+/// reversed Z) and written, colour written without blending (an overlay: blended by its
+/// alpha, depth untouched), viewport and scissor dynamic.
 pub(crate) fn build(
     ctx: &GpuContext,
     program: &Program,
@@ -378,11 +407,23 @@ pub(crate) fn build(
     let multisample =
         vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(msaa.flag());
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-        .depth_test_enable(true)
-        .depth_write_enable(true)
+        .depth_test_enable(!program.overlay)
+        .depth_write_enable(!program.overlay)
         .depth_compare_op(vk::CompareOp::GREATER);
-    let blend_attachment = [vk::PipelineColorBlendAttachmentState::default()
-        .color_write_mask(vk::ColorComponentFlags::RGBA)];
+    let blend_attachment = [if program.overlay {
+        vk::PipelineColorBlendAttachmentState::default()
+            .blend_enable(true)
+            .src_color_blend_factor(vk::BlendFactor::SRC_ALPHA)
+            .dst_color_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
+            .color_blend_op(vk::BlendOp::ADD)
+            .src_alpha_blend_factor(vk::BlendFactor::ZERO)
+            .dst_alpha_blend_factor(vk::BlendFactor::ONE)
+            .alpha_blend_op(vk::BlendOp::ADD)
+            .color_write_mask(vk::ColorComponentFlags::RGBA)
+    } else {
+        vk::PipelineColorBlendAttachmentState::default()
+            .color_write_mask(vk::ColorComponentFlags::RGBA)
+    }];
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachment);
     let dynamic = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic);

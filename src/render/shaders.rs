@@ -35,6 +35,13 @@ pub const OCEAN_FRAG_FDM_UNDER: &[u32] = spirv!("ocean_fdm_under.frag");
 /// counting variant of `vr-ocean gpu-budget`.
 pub const OCEAN_FRAG_COUNT: &[u32] = spirv!("ocean_count.frag");
 
+/// The comfort vignette's vertex shader, eye from `gl_ViewIndex`.
+pub const VIGNETTE_VERT_MULTIVIEW: &[u32] = spirv!("vignette_mv.vert");
+/// The comfort vignette's vertex shader, eye from a push constant.
+pub const VIGNETTE_VERT: &[u32] = spirv!("vignette.vert");
+/// The comfort vignette's fragment shader: black by the ring's alpha.
+pub const VIGNETTE_FRAG: &[u32] = spirv!("vignette.frag");
+
 /// Solids (bodies, deck) vertex shader, eye from `gl_ViewIndex`.
 pub const SOLID_VERT_MULTIVIEW: &[u32] = spirv!("solid_mv.vert");
 /// Solids vertex shader, eye from a push constant.

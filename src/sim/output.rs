@@ -64,6 +64,11 @@ impl Surfaces {
         query::height_at(&self.cascades, x, z)
     }
 
+    /// The mean height over a disc of `radius` about (x, z) ([`query::footprint_height`]).
+    pub fn footprint_height_at(&self, x: f32, z: f32, radius: f32) -> f32 {
+        query::footprint_height(&self.cascades, x, z, radius)
+    }
+
     /// Heights at many [x, z] points, lazily.
     pub fn heights_at<'a>(&'a self, points: &'a [[f32; 2]]) -> impl Iterator<Item = f32> + 'a {
         query::heights_at(&self.cascades, points)

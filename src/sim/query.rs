@@ -74,6 +74,19 @@ pub fn height_at(cascades: &[CascadeSurface], x: f32, z: f32) -> f32 {
     displacement_at(cascades, px, pz)[1]
 }
 
+/// The mean height over a disc of `radius` (m) about (x, z): the centre and six points on
+/// its rim, each weighted by the area nearest it (a quarter, and an eighth each). A floating
+/// body's buoyancy averages the water over its footprint the same way: waves shorter than it
+/// hardly move it.
+pub fn footprint_height(cascades: &[CascadeSurface], x: f32, z: f32, radius: f32) -> f32 {
+    let mut sum = 0.25 * height_at(cascades, x, z);
+    for k in 0..6 {
+        let a = k as f32 * std::f32::consts::FRAC_PI_3;
+        sum += 0.125 * height_at(cascades, x + radius * a.cos(), z + radius * a.sin());
+    }
+    sum
+}
+
 /// [`height_at`] for many points [x, z], lazily and without allocating.
 pub fn heights_at<'a>(
     cascades: &'a [CascadeSurface],
@@ -137,6 +150,20 @@ mod tests {
             d[1] = 0.1 * (i % 16) as f32 - 0.5;
         }
         vec![c]
+    }
+
+    #[test]
+    fn the_footprint_averages_the_ramp_and_sees_a_level_sea_as_is() {
+        let c = ramp();
+        // On the ramp (linear between texels) the rim's points average to the centre's height.
+        let centre = height_at(&c, 5.0, 2.0);
+        assert!((footprint_height(&c, 5.0, 2.0, 0.5) - centre).abs() < 1e-5);
+        let flat = vec![CascadeSurface::new(
+            GridSize::new(16).unwrap(),
+            16.0,
+            FloatCopies::Keep,
+        )];
+        assert_eq!(footprint_height(&flat, 3.0, -7.0, 0.5), 0.0);
     }
 
     #[test]

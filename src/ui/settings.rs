@@ -46,6 +46,10 @@ pub struct Settings {
     /// The headset's deck height above the mean sea level (m, 0.5 to 10); `None`: the
     /// default.
     pub deck_height_m: Option<f32>,
+    /// In the water, the head rides the waves (false: a fixed height).
+    pub ride_waves: bool,
+    /// The comfort vignette while the view is moved for the user.
+    pub vignette: bool,
 }
 
 impl Default for Settings {
@@ -66,6 +70,8 @@ impl Default for Settings {
             smooth_turn: false,
             seated: false,
             deck_height_m: None,
+            ride_waves: true,
+            vignette: true,
         }
     }
 }
@@ -150,6 +156,8 @@ impl Settings {
             smooth_turn: self.smooth_turn,
             deck_height_m: self.deck_height_m.unwrap_or(default_deck),
             seated: self.seated,
+            ride_waves: self.ride_waves,
+            vignette: self.vignette,
         }
     }
 

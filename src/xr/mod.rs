@@ -87,6 +87,10 @@ pub struct FrameState {
     /// Per hand, its aim ray where it meets the open panel: start and end in the world (the
     /// app draws them). `None` without controllers or off the panel.
     pub rays: [Option<[glam::Vec3; 2]>; 2],
+    /// The user floats in the water ([`locomotion::float`]): the body makes waves.
+    pub in_water: bool,
+    /// The comfort vignette's strength for this frame, 0 (none) to 1 ([`locomotion`]).
+    pub vignette: f32,
 }
 
 /// The images a frame renders into: indices into [`TargetImages::images`] and
@@ -240,6 +244,16 @@ pub trait FrameLoop {
     }
 
     /// The user's comfort options changed (the panel): snap-turn angle, smooth turning, deck
-    /// height, seated. Backends without locomotion ignore them.
+    /// height, seated, riding the waves, the vignette. Backends without locomotion ignore
+    /// them.
     fn set_comfort(&mut self, _comfort: Comfort) {}
+
+    /// The sea's height under the head (m over the mean level; the mean over a floating
+    /// body's footprint), which the app reports each frame: a backend whose user floats rides
+    /// it from the next frame on. Others ignore it.
+    fn report_water(&mut self, _surface: f32) {}
+
+    /// The user asked to go into the water (true) or back onto the deck (the panel's button).
+    /// Backends without locomotion ignore it.
+    fn set_in_water(&mut self, _in_water: bool) {}
 }

@@ -101,8 +101,22 @@ pub fn render_with(
     h: u32,
     hooks: &mut dyn RunHooks,
 ) -> RunReport {
+    render_set_up(opts, path, frames, w, h, hooks, |_| {})
+}
+
+/// [`render_with`] on a backend `set_up` prepared first (a comfort vignette, say).
+pub fn render_set_up(
+    opts: &RunOptions,
+    path: CameraPath,
+    frames: u64,
+    w: u32,
+    h: u32,
+    hooks: &mut dyn RunHooks,
+    set_up: impl FnOnce(&mut HeadlessXr),
+) -> RunReport {
     let mut xr = HeadlessXr::new(&validated(), EyeSize::new(w, h).unwrap(), path, frames)
         .unwrap_or_else(|e| panic!("cannot start headless Vulkan (lavapipe): {e}"));
+    set_up(&mut xr);
     let report = app::run(&mut xr, opts, hooks).unwrap_or_else(|e| panic!("run: {e}"));
     let log = xr_validation(&xr);
     drop(xr);

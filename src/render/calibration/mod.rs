@@ -196,6 +196,7 @@ impl Calibrator {
                 bindings: Vec::new(),
                 attributes: Vec::new(),
                 cull: vk::CullModeFlags::NONE,
+                overlay: false,
             };
             let pipeline = build(ctx, &program, target)?;
             self.pipelines.push((shader, pipeline));

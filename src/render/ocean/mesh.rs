@@ -28,6 +28,8 @@ pub(super) struct MeshLayout {
     pub boundary_level: u32,
     /// First index of the sky's two triangles.
     pub sky_first_index: u32,
+    /// First index and count of the comfort vignette's rings ([`super::vignette`]).
+    pub vignette_indices: (u32, u32),
     /// Byte offset of the solids' vertices (`SolidVertex`).
     pub solid_vertex_offset: u64,
     /// Per [`Shape`] (in [`Shape::ALL`] order): first index, index count and vertex offset
@@ -105,6 +107,7 @@ fn gather(lod: &OceanLod) -> (Vec<[f32; 3]>, Vec<u16>, MeshLayout) {
         skirt_inner: Vec::new(),
         boundary_level: st.boundary_level(),
         sky_first_index: 0,
+        vignette_indices: (0, 0),
         solid_vertex_offset: 0,
         solid_draws: [(0, 0, 0); 3],
     };
@@ -125,6 +128,9 @@ fn gather(lod: &OceanLod) -> (Vec<[f32; 3]>, Vec<u16>, MeshLayout) {
     }
     layout.sky_first_index = idx.len() as u32;
     idx.extend_from_slice(&[0, 1, 2, 2, 1, 3]);
+    let rings = super::vignette::ring_indices();
+    layout.vignette_indices = (idx.len() as u32, rings.len() as u32);
+    idx.extend_from_slice(&rings);
     layout.solid_vertex_offset = (verts.len() * 12) as u64;
     let mut solid_vertices = 0;
     for (draw, shape) in layout.solid_draws.iter_mut().zip(Shape::ALL) {

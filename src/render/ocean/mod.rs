@@ -11,6 +11,7 @@
 //! - `mesh`: the patch, skirt and sky meshes, uploaded once;
 //! - `pass`: the uniforms, cascade fades and the pass's recording;
 //! - `solids`: the floating bodies' and the deck's meshes and instances;
+//! - `vignette`: the comfort vignette's rings, drawn last while the view is moved;
 //! - `probe`: the counting variant's tally and pipeline statistics (`vr-ocean gpu-budget`);
 //! - `parts`: the settings' checks and the parts made in order, all or nothing.
 //!
@@ -36,6 +37,7 @@ mod slots;
 pub mod solids;
 mod textures;
 mod underwater;
+pub mod vignette;
 
 use std::time::{Duration, Instant};
 
@@ -107,6 +109,8 @@ pub struct FrameInput<'a> {
     pub solids: &'a [Solid],
     /// The interaction layer's waves, added to the sea's (`None`: none).
     pub interaction: Option<&'a InteractionLayer>,
+    /// The comfort vignette's strength, 0 (not drawn) to 1 ([`vignette`]).
+    pub vignette: f32,
 }
 
 /// What one [`OceanRenderer::render`] call measured.
@@ -314,6 +318,7 @@ impl OceanRenderer {
             vertices_per_side: self.pass.vertices_per_side,
             // The pipeline with the view from below only where the frame needs it.
             under: globals.underwater[0] > 0.5,
+            vignette: globals.vignette[0] > 0.0,
             resolve_after: self
                 .pipelines
                 .layout_of_pass

@@ -1,6 +1,6 @@
 //! The ocean pass: its uniforms (eyes, sun, cascades and their fade distances) and its
 //! recording: at most 16 instanced patch draws, the skirt, the solids (at most three instanced
-//! draws) and the sky, for both eyes with multiview or for one eye per pass without.
+//! draws), the sky and the comfort vignette when the view is moved, for both eyes with multiview or for one eye per pass without.
 //!
 //! One pipeline draws the ocean (push constant `mode`: patches, skirt, sky), another the
 //! solids, which share its depth buffer so the water hides their submerged parts. The sky is a
@@ -59,6 +59,12 @@ impl PassConstants {
         g.set_eyes(input.eyes);
         let (side, depth) = super::Underwater::of(&input.surfaces.cascades, input.eyes);
         g.underwater = [side.code(), depth, 0.0, 0.0];
+        let vignette = if input.vignette.is_finite() {
+            input.vignette.clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        g.vignette = [vignette, 0.0, 0.0, 0.0];
         let viewer = (input.eyes[0].position + input.eyes[1].position) * 0.5;
         g.lod_viewer = viewer.extend(input.surfaces.time() as f32).to_array();
         g.sun = light
@@ -216,6 +222,8 @@ pub(super) struct PassRecorder<'a> {
     /// Some of the frame is drawn from under the water ([`super::Underwater`] not `Above`):
     /// the ocean pipeline with the water's paths from below ([`Pipelines::ocean_under`]).
     pub under: bool,
+    /// Draw the comfort vignette last ([`super::vignette`]; its strength is in the globals).
+    pub vignette: bool,
     /// Two passes with MSAA: resolve each eye after its pass, from this multisampled image
     /// into layer `eye` of this eye image.
     pub resolve_after: Option<ResolveAfter>,
@@ -233,7 +241,8 @@ pub(super) struct ResolveAfter {
 impl PassRecorder<'_> {
     /// Records one render pass into `framebuffer` (both eyes with multiview, else eye `eye`):
     /// the LOD's patch draws, the skirt (instance `skirt_instance`), the solids (per shape:
-    /// first instance and count) and the sky. Returns the draws recorded.
+    /// first instance and count), the sky and, when asked, the comfort vignette. Returns the
+    /// draws recorded.
     pub fn record(
         &self,
         framebuffer: vk::Framebuffer,
@@ -355,6 +364,13 @@ impl PassRecorder<'_> {
             self.push(&push);
             d.cmd_draw_indexed(cmd, 6, 1, layout.sky_first_index, 0, 0);
             draws += 1;
+            if self.vignette {
+                // Vertices from the index alone; the pipeline reads no vertex buffers.
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.vignette);
+                let (first, count) = layout.vignette_indices;
+                d.cmd_draw_indexed(cmd, count, 1, first, 0, 0);
+                draws += 1;
+            }
             d.cmd_end_render_pass(cmd);
         }
         if let Some(r) = self.resolve_after {

@@ -30,6 +30,8 @@ pub struct Widgets {
     pub reset: [f32; 4],
     /// The quit button.
     pub quit: [f32; 4],
+    /// The into-the-water (back-on-the-deck) button.
+    pub water: [f32; 4],
     /// The performance line.
     pub perf: [f32; 4],
 }
@@ -221,6 +223,7 @@ impl Panel {
             spawn: widgets.spawn.map(|v| v * ppp),
             reset: widgets.reset.map(|v| v * ppp),
             quit: widgets.quit.map(|v| v * ppp),
+            water: widgets.water.map(|v| v * ppp),
             perf: widgets.perf.map(|v| v * ppp),
         };
         let mut shapes = out.shapes;

@@ -15,6 +15,12 @@ pub struct Comfort {
     pub deck_height_m: f32,
     /// Seated: the floor is raised to a standing eye height.
     pub seated: bool,
+    /// In the water, the head rides the waves (false: it stays at a fixed height over the
+    /// mean level and the water moves around it).
+    pub ride_waves: bool,
+    /// Narrow the view with a vignette while it is moved for the user (gliding, swimming,
+    /// smooth turns, riding the waves).
+    pub vignette: bool,
 }
 
 impl Default for Comfort {
@@ -24,6 +30,8 @@ impl Default for Comfort {
             smooth_turn: false,
             deck_height_m: crate::physics::DEFAULT_DECK_HEIGHT,
             seated: false,
+            ride_waves: true,
+            vignette: true,
         }
     }
 }
@@ -69,6 +77,8 @@ pub struct PanelModel {
     pub bodies: u32,
     /// Comfort options.
     pub comfort: Comfort,
+    /// The user floats in the water (the button then reads "Back on the deck").
+    pub in_water: bool,
     /// The performance line.
     pub perf: Perf,
 }
@@ -89,11 +99,13 @@ pub struct PanelRequests {
     pub spawn_body: bool,
     /// End the session.
     pub quit: bool,
+    /// Into the water from the deck, or back onto it (whichever the user is not).
+    pub water: bool,
 }
 
 impl PanelRequests {
     /// Whether any was made.
     pub fn any(&self) -> bool {
-        self.reset_bodies || self.spawn_body || self.quit
+        self.reset_bodies || self.spawn_body || self.quit || self.water
     }
 }

@@ -13,6 +13,7 @@ fn live() -> PanelModel {
         clouds: 0.2,
         bodies: 3,
         comfort: Comfort::default(),
+        in_water: false,
         perf: Perf {
             frame_ms: 11.1,
             gpu_ms: Some(6.4),
@@ -134,6 +135,24 @@ fn dragging_the_wind_slider_moves_the_wind_with_the_hand() {
     let held = m.wind_speed;
     frame(&mut panel, &mut m, 1.1, &[PointerEvent::Aim(at(0.2))]);
     assert_eq!(m.wind_speed, held);
+}
+
+#[test]
+fn the_water_button_asks_in_and_reads_back_on_the_deck_once_in() {
+    let mut panel = Panel::new(true, 2.0);
+    let mut m = live();
+    frame(&mut panel, &mut m, 0.0, &[]);
+    let water = centre(panel.widgets().water);
+    frame(&mut panel, &mut m, 0.1, &[PointerEvent::Aim(Some(water))]);
+    frame(&mut panel, &mut m, 0.2, &[PointerEvent::Trigger(true)]);
+    let u = frame(&mut panel, &mut m, 0.3, &[PointerEvent::Trigger(false)]);
+    assert!(u.requests.water && u.requests.any());
+    // In the water the same button takes the user out: the panel redraws with it.
+    m.in_water = true;
+    assert!(frame(&mut panel, &mut m, 0.4, &[]).redrawn);
+    frame(&mut panel, &mut m, 0.5, &[PointerEvent::Trigger(true)]);
+    let u = frame(&mut panel, &mut m, 0.6, &[PointerEvent::Trigger(false)]);
+    assert!(u.requests.water);
 }
 
 #[test]

@@ -74,7 +74,7 @@ pub fn show(
         ui.separator();
         bodies(ui, m, requests, widgets);
         ui.separator();
-        comfort(ui, m);
+        comfort(ui, m, requests, widgets);
         ui.separator();
         perf(ui, m, widgets);
     });
@@ -167,8 +167,27 @@ fn bodies(ui: &mut egui::Ui, m: &PanelModel, requests: &mut PanelRequests, widge
     });
 }
 
-fn comfort(ui: &mut egui::Ui, m: &mut PanelModel) {
+fn comfort(
+    ui: &mut egui::Ui,
+    m: &mut PanelModel,
+    requests: &mut PanelRequests,
+    widgets: &mut Widgets,
+) {
     ui.label(RichText::new("Comfort").strong());
+    ui.horizontal(|ui| {
+        let label = if m.in_water {
+            "Back on the deck"
+        } else {
+            "Into the water"
+        };
+        let water = ui.button(label);
+        widgets.water = corners(water.rect);
+        if water.clicked() {
+            requests.water = true;
+        }
+        ui.checkbox(&mut m.comfort.ride_waves, "ride the waves");
+        ui.checkbox(&mut m.comfort.vignette, "vignette");
+    });
     let c = &mut m.comfort;
     ui.horizontal(|ui| {
         ui.checkbox(&mut c.smooth_turn, "smooth turn");

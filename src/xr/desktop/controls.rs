@@ -63,6 +63,11 @@ impl FlyControls {
         self.held[key as usize] = down;
     }
 
+    /// Whether `key` is held.
+    pub fn held(&self, key: MoveKey) -> bool {
+        self.held[key as usize]
+    }
+
     /// Lets go of every key (the window lost focus, so key releases would be missed).
     pub fn release_all(&mut self) {
         self.held = [false; 7];

@@ -206,6 +206,8 @@ pub struct HeadlessXr {
     settle: u64,
     frame: u64,
     acquired: Option<u32>,
+    /// The comfort vignette shown in every frame (0: none).
+    vignette: f32,
 }
 
 impl HeadlessXr {
@@ -226,7 +228,14 @@ impl HeadlessXr {
             settle: 0,
             frame: 0,
             acquired: None,
+            vignette: 0.0,
         })
+    }
+
+    /// Shows the comfort vignette at `strength` (0 to 1) in every frame, as a headset's
+    /// locomotion would while the view is moved: for looking at it and testing it.
+    pub fn show_vignette(&mut self, strength: f32) {
+        self.vignette = strength;
     }
 
     /// Lets the sea run for `frames` × [`SETTLE_DT`] seconds before the first drawn frame:
@@ -294,6 +303,8 @@ impl FrameLoop for HeadlessXr {
             hands: [None; 2],
             pointer: [None; crate::xr::MAX_POINTER_EVENTS],
             rays: [None; 2],
+            in_water: false,
+            vignette: self.vignette,
         };
         self.frame += 1;
         Ok(Some(state))

@@ -104,6 +104,10 @@ impl OpenXr {
         });
         let hands = self.locate_hands(time);
         let should_render = located.is_some();
+        if should_render && self.locomotion.in_water() {
+            let eyes = (views[0].position.y + views[1].position.y) * 0.5;
+            self.stats.summary.afloat.observe(eyes, self.water_surface);
+        }
         if !should_render {
             self.stats.summary.frames_not_rendered += 1;
         }
@@ -126,6 +130,8 @@ impl OpenXr {
             hands,
             pointer,
             rays,
+            in_water: self.locomotion.in_water(),
+            vignette: self.locomotion.vignette(),
         };
         self.index += 1;
         Ok(frame)
@@ -331,11 +337,30 @@ impl OpenXr {
         if let Some(v) = views {
             let (p, q) = head_pose(v);
             self.panel.head = Some((p, q));
+            let in_water = self.locomotion.in_water();
+            let toggled = frame.water.then_some(!in_water);
+            match self.want_water.take().or(toggled) {
+                Some(true) if !in_water => {
+                    self.locomotion.enter_water(p, q, self.water_surface);
+                    log::info!("into the water");
+                    let s = self.session();
+                    s.input.tick(&s.session);
+                }
+                Some(false) if in_water => {
+                    self.locomotion.leave_water(p, q);
+                    log::info!("back on the deck");
+                    let s = self.session();
+                    s.input.tick(&s.session);
+                }
+                _ => {}
+            }
+            self.locomotion.ride(self.water_surface, frame.duck, dt);
             if self.locomotion.update(p, q, frame.glide, frame.turn_x, dt) {
                 log::debug!("snap turn: yaw {:.0}°", self.locomotion.yaw().to_degrees());
             }
             if frame.recenter {
-                self.locomotion.recenter(p, q);
+                // Recentring always brings the user back onto the deck.
+                self.locomotion.leave_water(p, q);
                 log::info!("recentred on the deck");
                 let s = self.session();
                 s.input.tick(&s.session);

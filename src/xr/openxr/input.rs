@@ -12,6 +12,8 @@
 //! | recenter on the deck (hold 1 s, haptic tick) | B | left menu |
 //! | grab a floating body (haptic tick), let go to throw | grip (squeeze), either hand | — |
 //! | open or close the control panel | left menu (≡) | — |
+//! | into the water, or back on the deck | Y | — |
+//! | duck under (while held, in the water) | X | — |
 //! | aim at the open panel, press on it (haptic tick) | aim ray and trigger, either hand | aim ray and select |
 //!
 //! While the panel is open the triggers press on it and leave the wind alone. The hands' grip
@@ -36,6 +38,8 @@ struct Profile {
     squeeze: Option<[&'static str; 2]>,
     /// The panel's menu button, where the controller has one to spare.
     menu: Option<&'static str>,
+    /// Into the water or out, and duck under, where the controller has buttons to spare.
+    water: Option<[&'static str; 2]>,
 }
 
 /// Grip poses of the left and right hand (every profile has them).
@@ -66,6 +70,10 @@ const fn touch(path: &'static str, usable: fn(&xr::InstanceExtensions) -> bool) 
             "/user/hand/right/input/squeeze/value",
         ]),
         menu: Some("/user/hand/left/input/menu/click"),
+        water: Some([
+            "/user/hand/left/input/y/click",
+            "/user/hand/left/input/x/click",
+        ]),
     }
 }
 
@@ -90,6 +98,7 @@ const PROFILES: [Profile; 4] = [
         recenter: "/user/hand/left/input/menu/click",
         squeeze: None,
         menu: None,
+        water: None,
     },
 ];
 
@@ -175,6 +184,10 @@ pub struct InputFrame {
     pub menu: bool,
     /// The left and right triggers, 0 to 1 (the panel's press).
     pub triggers: [f32; 2],
+    /// The into-the-water button went down this frame (in or out).
+    pub water: bool,
+    /// The duck button is held.
+    pub duck: bool,
 }
 
 /// One hand located this frame, in the session's space.
@@ -206,6 +219,8 @@ pub struct Input {
     aim_pose: xr::Action<xr::Posef>,
     squeeze: xr::Action<f32>,
     menu: xr::Action<bool>,
+    water: xr::Action<bool>,
+    duck: xr::Action<bool>,
     /// The left and right hand's paths (subaction paths).
     hands: [xr::Path; 2],
     /// The grip poses' action spaces, made when the set is attached.
@@ -266,6 +281,12 @@ impl Input {
         let menu = set
             .create_action::<bool>("panel", "Open or close the panel", &[])
             .map_err(|e| err("panel", e))?;
+        let water = set
+            .create_action::<bool>("into_water", "Into the water, or back on the deck", &[])
+            .map_err(|e| err("into_water", e))?;
+        let duck = set
+            .create_action::<bool>("duck", "Duck under the water (hold)", &[])
+            .map_err(|e| err("duck", e))?;
         for p in PROFILES.iter().filter(|p| (p.usable)(instance.exts())) {
             let path = |s: &str| instance.string_to_path(s);
             let suggest = || -> Result<(), xr::sys::Result> {
@@ -293,6 +314,10 @@ impl Input {
                 if let Some(m) = p.menu {
                     b.push(xr::Binding::new(&menu, path(m)?));
                 }
+                if let Some([w, d]) = p.water {
+                    b.push(xr::Binding::new(&water, path(w)?));
+                    b.push(xr::Binding::new(&duck, path(d)?));
+                }
                 for s in p.squeeze.into_iter().flatten() {
                     b.push(xr::Binding::new(&squeeze, path(s)?));
                 }
@@ -316,6 +341,8 @@ impl Input {
             aim_pose,
             squeeze,
             menu,
+            water,
+            duck,
             hands: [left, right],
             grip_spaces: None,
             aim_spaces: None,
@@ -465,6 +492,8 @@ impl Input {
         let r = self.recenter.state(session, any)?;
         let recenter = self.hold.update(r.is_active && r.current_state, dt);
         let m = self.menu.state(session, any)?;
+        let w = self.water.state(session, any)?;
+        let dk = self.duck.state(session, any)?;
         Ok(InputFrame {
             glide,
             turn_x: turn.x,
@@ -473,6 +502,8 @@ impl Input {
             recenter,
             menu: m.is_active && m.changed_since_last_sync && m.current_state,
             triggers: [down_value, up_value],
+            water: w.is_active && w.changed_since_last_sync && w.current_state,
+            duck: dk.is_active && dk.current_state,
         })
     }
 

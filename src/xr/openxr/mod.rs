@@ -84,6 +84,8 @@ pub struct OpenXrOptions {
     /// reprojection uses it (PC runtimes' positional timewarp). Off by default: no feature on
     /// Quest uses it, and storing it costs bandwidth every frame.
     pub submit_depth: bool,
+    /// Start in the water, floating off the deck's edge, instead of on the deck.
+    pub in_water: bool,
 }
 
 impl Default for OpenXrOptions {
@@ -98,6 +100,7 @@ impl Default for OpenXrOptions {
             deck_height: 2.9,
             preset: None,
             submit_depth: false,
+            in_water: false,
         }
     }
 }
@@ -157,6 +160,11 @@ pub struct OpenXr {
     gpu_levels_left: bool,
     /// Where the tracking space sits over the water.
     locomotion: Locomotion,
+    /// The sea's height under the head the app last reported (m), for floating.
+    water_surface: Option<f32>,
+    /// Into the water (true) or out, asked by the panel or the start options; carried out on
+    /// the next frame with a located head.
+    want_water: Option<bool>,
     /// The quality preset selected now.
     preset: QualityPreset,
     /// The refresh-rate governor, when the rate can be chosen.
@@ -456,6 +464,15 @@ impl FrameLoop for OpenXr {
         let deck_raise = c.deck_height_m - self.options.deck_height;
         self.locomotion
             .set_comfort(c.snap_turn_deg, c.smooth_turn, c.seated, deck_raise);
+        self.locomotion.set_water_comfort(c.ride_waves, c.vignette);
+    }
+
+    fn report_water(&mut self, surface: f32) {
+        self.water_surface = surface.is_finite().then_some(surface);
+    }
+
+    fn set_in_water(&mut self, in_water: bool) {
+        self.want_water = Some(in_water);
     }
 }
 

@@ -52,6 +52,7 @@ impl OpenXr {
     }
 
     fn with_instance(instance: xr::Instance, options: OpenXrOptions) -> Result<Self, XrError> {
+        let start_in_water = options.in_water;
         let props = instance.properties().call("xrGetInstanceProperties")?;
         let runtime = format!("{} {}", props.runtime_name, props.runtime_version);
         log::info!("OpenXR runtime: {runtime}");
@@ -163,6 +164,8 @@ impl OpenXr {
                 Vec3::new(0.0, facts.origin_height, 0.0),
                 LocomotionSettings::default(),
             ),
+            water_surface: None,
+            want_water: start_in_water.then_some(true),
             refresh,
             pending: None,
             index: 0,

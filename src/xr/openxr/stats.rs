@@ -48,6 +48,46 @@ pub struct Summary {
     pub frames_with_panel: u64,
     /// Images of the panel's swapchain acquired (once per change of the panel).
     pub panel_images: u64,
+    /// The user floating in the water ([`FloatStats`]).
+    pub afloat: FloatStats,
+}
+
+/// Frames shown with the user in the water, and how the eyes rode the sea: the eyes' mean
+/// height over the sea under the head, and over the mean level (both in cm, least and most),
+/// after the first [`FloatStats::SETTLE`] frames in the water (the ride settles from the
+/// deck's height).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FloatStats {
+    /// Rendered frames in the water.
+    pub frames: u64,
+    /// Eyes over the sea under the head (cm), least and most.
+    pub over_water_cm: Option<(f32, f32)>,
+    /// Eyes over the mean level (cm), least and most.
+    pub height_cm: Option<(f32, f32)>,
+}
+
+impl FloatStats {
+    /// Frames in the water only counted: a second at 72 Hz.
+    pub const SETTLE: u64 = 72;
+
+    /// A rendered frame in the water: the eyes at `eyes` m, the sea under the head at
+    /// `surface` m (when reported).
+    pub fn observe(&mut self, eyes: f32, surface: Option<f32>) {
+        let settled = self.frames >= Self::SETTLE;
+        self.frames += 1;
+        let widen = |r: Option<(f32, f32)>, v: f32| {
+            Some(r.map_or((v, v), |(lo, hi)| (lo.min(v), hi.max(v))))
+        };
+        if let (true, Some(s)) = (settled, surface) {
+            self.over_water_cm = widen(self.over_water_cm, 100.0 * (eyes - s));
+            self.height_cm = widen(self.height_cm, 100.0 * eyes);
+        }
+    }
+
+    /// `lo..hi` in cm, or `n/a`.
+    fn range(r: Option<(f32, f32)>) -> String {
+        r.map_or("n/a".to_string(), |(lo, hi)| format!("{lo:.1}..{hi:.1}"))
+    }
 }
 
 impl Summary {
@@ -57,7 +97,8 @@ impl Summary {
             "frames_waited={} frames_submitted={} frames_not_rendered={} states={} \
              mean_period_ms={:.3} wait_p50_ms={:.3} wait_p99_ms={:.3} exit={:?} eye={}x{} \
              format={} depth={} space={} refresh_hz={} gpu_governor={} \
-             gpu_governor_changes={} frames_with_panel={} panel_images={} runtime=\"{}\"",
+             gpu_governor_changes={} frames_with_panel={} panel_images={} afloat_frames={} \
+             eyes_over_water_cm={} eye_height_cm={} runtime=\"{}\"",
             self.frames_waited,
             self.frames_submitted,
             self.frames_not_rendered,
@@ -77,6 +118,9 @@ impl Summary {
             self.governor_changes,
             self.frames_with_panel,
             self.panel_images,
+            self.afloat.frames,
+            FloatStats::range(self.afloat.over_water_cm),
+            FloatStats::range(self.afloat.height_cm),
             self.runtime
         )
     }

@@ -1,6 +1,9 @@
 //! The window mode of the desktop backend: a winit window showing both eyes side by side, head
 //! pose from the keyboard and mouse ([`FlyControls`]) or a [`CameraPath`] on the real clock,
-//! live tweaks of the waves and the quality preset, frame times in the title.
+//! live tweaks of the waves and the quality preset, frame times in the title. The panel's
+//! "Into the water" floats the head on the sea as a headset's float mode does
+//! ([`crate::xr::locomotion::float`]; Q held ducks under), "Back on the deck" returns to the
+//! start.
 //!
 //! The app owns the loop, so winit is pumped (`pump_app_events`, no waiting) at the start of
 //! every frame. The app renders into the backend's own [`DesktopSwapchain`]; [`FrameLoop::end_frame`]
@@ -22,6 +25,7 @@ pub use size::WindowSize;
 use std::time::{Duration, Instant};
 
 use ash::vk;
+use glam::{Quat, Vec3};
 use winit::dpi::PhysicalSize;
 use winit::event_loop::EventLoop;
 use winit::platform::pump_events::{EventLoopExtPumpEvents, PumpStatus};
@@ -29,11 +33,13 @@ use winit::raw_window_handle::{HasDisplayHandle, HasWindowHandle};
 use winit::window::Window;
 
 use self::input::{Input, PENDING_TWEAKS};
-use super::controls::FlyControls;
+use super::controls::{FlyControls, MoveKey};
 use super::present::{Presenter, Screenshot};
 use super::{eye_views, CameraPath, DesktopSwapchain};
 use crate::render::{ContextOptions, GpuContext, RenderError, TargetImages};
 use crate::ui::panel::Panel;
+use crate::xr::locomotion::float::{Afloat, FloatSettings};
+use crate::xr::locomotion::WATER_ENTRY_DISTANCE;
 use crate::xr::{Acquired, FrameLoop, FrameState, XrError};
 
 /// Display period assumed when the monitor does not report its refresh rate (60 Hz).
@@ -146,6 +152,12 @@ pub struct WindowXr {
     title: String,
     /// Whether the control panel is open (shown over the view).
     panel_shown: bool,
+    /// In the water (the panel's button): the head floats on the sea under it, Q ducks.
+    afloat: Option<Afloat>,
+    /// Ride the waves in the water (the comfort option; false: a fixed height).
+    ride: bool,
+    /// The sea's height under the head the app last reported (m).
+    water_surface: Option<f32>,
 }
 
 impl WindowXr {
@@ -283,6 +295,9 @@ impl WindowXr {
             acquired: None,
             title: String::with_capacity(256),
             panel_shown: false,
+            afloat: None,
+            ride: true,
+            water_surface: None,
         })
     }
 
@@ -350,6 +365,12 @@ impl FrameLoop for WindowXr {
             self.period += 0.1 * (dt.clamp(1.0 / 240.0, 0.5) - self.period);
         }
         self.input.controls.update(dt.min(0.1) as f32);
+        if let Some(afloat) = self.afloat.as_mut() {
+            // Floating: the sea sets the head's height; Q (down) held ducks under.
+            let duck = self.input.controls.held(MoveKey::Down);
+            let eyes = afloat.step(self.water_surface, duck, dt.min(0.1) as f32);
+            self.input.controls.position.y = eyes;
+        }
         let t = (now - self.start).as_secs_f64() + self.period;
         let (position, orientation) = match &self.path {
             Some(p) => p.pose(t),
@@ -367,6 +388,8 @@ impl FrameLoop for WindowXr {
             hands: [None; 2],
             pointer: self.input.panel.take(),
             rays: [None; 2],
+            in_water: self.afloat.is_some(),
+            vignette: 0.0,
         };
         self.frame += 1;
         Ok(Some(state))
@@ -423,6 +446,34 @@ impl FrameLoop for WindowXr {
             self.presenter.paint_panel(&self.ctx, panel)?;
         }
         Ok(())
+    }
+
+    fn report_water(&mut self, surface: f32) {
+        self.water_surface = surface.is_finite().then_some(surface);
+    }
+
+    fn set_in_water(&mut self, in_water: bool) {
+        let c = &mut self.input.controls;
+        if in_water && self.afloat.is_none() {
+            // Off the deck's edge the way the view faces, floating.
+            let forward = Quat::from_rotation_y(c.yaw.to_radians()) * Vec3::NEG_Z;
+            let start = super::START_POSITION;
+            c.position = Vec3::new(start.x, 0.0, start.z) + forward * WATER_ENTRY_DISTANCE;
+            let mut afloat = Afloat::new(FloatSettings::default(), self.ride);
+            c.position.y = afloat.step(self.water_surface, false, 0.0);
+            self.afloat = Some(afloat);
+            log::info!("into the water");
+        } else if !in_water && self.afloat.take().is_some() {
+            c.position = super::START_POSITION;
+            log::info!("back on the deck");
+        }
+    }
+
+    fn set_comfort(&mut self, comfort: crate::ui::panel::Comfort) {
+        self.ride = comfort.ride_waves;
+        if let Some(a) = self.afloat.as_mut() {
+            a.set_ride(comfort.ride_waves);
+        }
     }
 
     fn show_stats(&mut self, text: &str) {

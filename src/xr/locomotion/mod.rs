@@ -1,8 +1,26 @@
 //! Moving a tracked user over the water: the world pose of the runtime's tracking space. The
-//! left thumbstick glides head-relative over the sea, the right one snap-turns about the head;
-//! tracked poses are mapped into the world by [`Locomotion::to_world`].
+//! left thumbstick glides head-relative over the sea (or swims, in the water), the right one
+//! snap-turns about the head; tracked poses are mapped into the world by
+//! [`Locomotion::to_world`]. In the water ([`float`]) the tracking space's height follows the
+//! sea under the head, so the user floats; the comfort vignette's strength follows how fast
+//! the view is moved for the user.
+
+pub mod float;
 
 use glam::{Quat, Vec2, Vec3};
+
+use float::{Afloat, FloatSettings};
+
+/// How far from the deck's centre a user entering the water comes up (m): off the default
+/// deck's edge (half of 4 m) by a body length.
+pub const WATER_ENTRY_DISTANCE: f32 = 3.5;
+
+/// View speed at which the comfort vignette is at full strength (m/s); turning smoothly at
+/// [`SMOOTH_TURN_SPEED`] counts as this much.
+pub const VIGNETTE_FULL_SPEED: f32 = 2.0;
+
+/// Time constant of the vignette's easing in and out (s).
+pub const VIGNETTE_EASE_S: f32 = 0.15;
 
 /// How the thumbsticks move the user.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -55,6 +73,16 @@ pub struct Locomotion {
     raised: f32,
     /// The origin's height the session started with (m).
     start_height: f32,
+    /// In the water: the float state and the tracked head's height when the user went in
+    /// (the reference the eyes' height is set from, so the user's own head motion still
+    /// moves the view).
+    water: Option<(Afloat, f32)>,
+    /// Ride the waves in the water (false: a fixed height).
+    ride: bool,
+    /// Whether the comfort vignette is on.
+    vignette_on: bool,
+    /// The vignette's strength now, 0 (none) to 1.
+    vignette: f32,
 }
 
 impl Locomotion {
@@ -69,6 +97,10 @@ impl Locomotion {
             snap_armed: true,
             raised: 0.0,
             start_height: origin.y,
+            water: None,
+            ride: true,
+            vignette_on: true,
+            vignette: 0.0,
         }
     }
 
@@ -84,22 +116,27 @@ impl Locomotion {
         dt: f32,
     ) -> bool {
         let s = self.settings;
+        let speed = match &self.water {
+            Some((afloat, _)) => afloat.settings().swim_speed,
+            None => s.speed,
+        };
+        // The speed the view is moved at, for the vignette: the ride's, the stick's, a turn's.
+        let mut moved = self.water.map_or(0.0, |(a, _)| a.vertical_speed().abs());
         if glide.length() > s.dead_zone && dt.is_finite() && dt > 0.0 {
             let (_, world_head) = self.to_world(head_position, head_orientation);
             let forward = world_head * Vec3::NEG_Z;
             let flat_forward = Vec3::new(forward.x, 0.0, forward.z).normalize_or_zero();
             let right = Vec3::new(-flat_forward.z, 0.0, flat_forward.x);
             let stick = glide.clamp_length_max(1.0);
-            self.origin += (flat_forward * stick.y + right * stick.x) * s.speed * dt;
+            self.origin += (flat_forward * stick.y + right * stick.x) * speed * dt;
+            moved += stick.length() * speed;
         }
         let mut turned = false;
         if s.smooth_turn {
             if turn_x.abs() > s.dead_zone && dt.is_finite() && dt > 0.0 {
-                self.turn_about_head(
-                    head_position,
-                    head_orientation,
-                    -turn_x.clamp(-1.0, 1.0) * SMOOTH_TURN_SPEED * dt,
-                );
+                let rate = turn_x.clamp(-1.0, 1.0) * SMOOTH_TURN_SPEED;
+                self.turn_about_head(head_position, head_orientation, -rate * dt);
+                moved += rate.abs() / SMOOTH_TURN_SPEED * VIGNETTE_FULL_SPEED;
             }
         } else if self.snap_armed && turn_x.abs() >= s.snap_threshold {
             self.turn_about_head(
@@ -112,7 +149,76 @@ impl Locomotion {
         } else if turn_x.abs() < s.snap_release {
             self.snap_armed = true;
         }
+        if dt.is_finite() && dt > 0.0 {
+            let target = if self.vignette_on {
+                (moved / VIGNETTE_FULL_SPEED).min(1.0)
+            } else {
+                0.0
+            };
+            let a = 1.0 - (-dt / VIGNETTE_EASE_S).exp();
+            self.vignette += (target - self.vignette) * a;
+        }
         turned
+    }
+
+    /// In the water, before [`Locomotion::update`] each frame: `surface` is the sea's height
+    /// under the head (the mean over the body's footprint, m over the mean level; `None`
+    /// when unknown), `duck` whether the duck button is held. The tracking space is lifted so
+    /// the eyes float ([`float`]) when the tracked head is as high as it was at the entry
+    /// (the user's own motion still moves the view). On the deck nothing happens.
+    pub fn ride(&mut self, surface: Option<f32>, duck: bool, dt: f32) {
+        let Some((afloat, reference)) = self.water.as_mut() else {
+            return;
+        };
+        let eyes = afloat.step(surface, duck, dt);
+        self.origin.y = eyes - *reference;
+    }
+
+    /// Goes into the water: the head comes up [`WATER_ENTRY_DISTANCE`] from the deck's centre
+    /// the way it faces, floating, with the current comfort options. `surface` is the sea's
+    /// height there, if known. Already in the water: nothing changes.
+    pub fn enter_water(
+        &mut self,
+        head_position: Vec3,
+        head_orientation: Quat,
+        surface: Option<f32>,
+    ) {
+        if self.water.is_some() {
+            return;
+        }
+        let (_, q) = self.to_world(head_position, head_orientation);
+        let f = q * Vec3::NEG_Z;
+        let flat = Vec3::new(f.x, 0.0, f.z).normalize_or(Vec3::NEG_Z);
+        let target = self.home + flat * WATER_ENTRY_DISTANCE;
+        let r = Quat::from_rotation_y(self.yaw);
+        let head = r * head_position;
+        self.origin.x = target.x - head.x;
+        self.origin.z = target.z - head.z;
+        let mut afloat = Afloat::new(FloatSettings::default(), self.ride);
+        let eyes = afloat.step(surface, false, 0.0);
+        self.water = Some((afloat, head_position.y));
+        self.origin.y = eyes - head_position.y;
+    }
+
+    /// Climbs out: back on the deck, re-anchored over its centre ([`Locomotion::recenter`]).
+    pub fn leave_water(&mut self, head_position: Vec3, head_orientation: Quat) {
+        self.water = None;
+        self.recenter(head_position, head_orientation);
+    }
+
+    /// Whether the user is in the water.
+    pub fn in_water(&self) -> bool {
+        self.water.is_some()
+    }
+
+    /// The float state, in the water.
+    pub fn afloat(&self) -> Option<&Afloat> {
+        self.water.as_ref().map(|(a, _)| a)
+    }
+
+    /// The comfort vignette's strength now: 0 (none) to 1 (the view narrowed most).
+    pub fn vignette(&self) -> f32 {
+        self.vignette
     }
 
     /// Turns by `angle` (rad, positive to the left) about the head, so its world position
@@ -127,6 +233,7 @@ impl Locomotion {
     /// Takes the user's comfort options: the snap-turn angle (degrees), smooth turning,
     /// seated (the floor raised by [`SEATED_RAISE`]) and the deck moved `deck_raise` metres
     /// above where the session started it (the floor moves with it).
+    /// In the water the floor's height is the float's, so only the deck's home moves.
     pub fn set_comfort(&mut self, snap_deg: f32, smooth: bool, seated: bool, deck_raise: f32) {
         if snap_deg.is_finite() && snap_deg > 0.0 {
             self.settings.snap_angle = snap_deg.to_radians();
@@ -136,7 +243,19 @@ impl Locomotion {
         if deck_raise.is_finite() {
             self.home.y = self.start_height + deck_raise;
         }
-        self.origin.y = self.home.y + self.raised;
+        if self.water.is_none() {
+            self.origin.y = self.home.y + self.raised;
+        }
+    }
+
+    /// The water's comfort options: ride the waves (false: the eyes at a fixed height over
+    /// the mean level) and the vignette while the view is moved.
+    pub fn set_water_comfort(&mut self, ride: bool, vignette: bool) {
+        self.ride = ride;
+        self.vignette_on = vignette;
+        if let Some((afloat, _)) = self.water.as_mut() {
+            afloat.set_ride(ride);
+        }
     }
 
     /// Re-anchors the user on the deck: the head (tracking-space pose `head_position`,
@@ -197,6 +316,85 @@ mod tests {
         let f = q * Vec3::NEG_Z;
         let flat = Vec3::new(f.x, 0.0, f.z).normalize();
         assert!(close(flat, Vec3::NEG_Z), "facing {flat}");
+    }
+
+    #[test]
+    fn into_the_water_the_head_floats_swims_ducks_and_climbs_back_out() {
+        let home = Vec3::new(0.0, 2.9, 0.0);
+        let mut l = Locomotion::new(home, LocomotionSettings::default());
+        // Standing 1.7 m tall, facing +x (turned 90° right).
+        let head = Vec3::new(0.2, 1.7, 0.1);
+        let q = Quat::from_rotation_y(-90f32.to_radians());
+        l.enter_water(head, q, Some(0.4));
+        assert!(l.in_water());
+        let (p, _) = l.to_world(head, q);
+        assert!(close(p, Vec3::new(WATER_ENTRY_DISTANCE, 0.55, 0.0)), "{p}");
+        // The head rides a slow swell: its height follows the water's, 15 cm over it.
+        let dt = 1.0 / 72.0;
+        for i in 0..720 {
+            let h = (i as f32 * dt * 0.8).sin();
+            l.ride(Some(h), false, dt);
+            l.update(head, q, Vec2::ZERO, 0.0, dt);
+            let y = l.to_world(head, q).0.y;
+            if i > 72 {
+                assert!(
+                    (y - h - 0.15).abs() < 0.085,
+                    "frame {i}: eyes {y} over water {h}"
+                );
+            }
+        }
+        // The user's own head motion still moves the view (crouching 30 cm).
+        let low = head - Vec3::Y * 0.3;
+        assert!((l.to_world(head, q).0.y - l.to_world(low, q).0.y - 0.3).abs() < 1e-5);
+        // Swimming is slower than gliding: 1 s of full stick forward.
+        let before = l.to_world(head, q).0;
+        l.ride(Some(0.0), false, 1.0);
+        l.update(head, q, Vec2::new(0.0, 1.0), 0.0, 1.0);
+        let after = l.to_world(head, q).0;
+        let swim = FloatSettings::default().swim_speed;
+        assert!(
+            (after.x - before.x - swim).abs() < 1e-4,
+            "{before} -> {after}"
+        );
+        // Ducking takes the eyes under.
+        for _ in 0..300 {
+            l.ride(Some(0.0), true, dt);
+            l.update(head, q, Vec2::ZERO, 0.0, dt);
+        }
+        assert!(
+            l.to_world(head, q).0.y < -1.0,
+            "{}",
+            l.to_world(head, q).0.y
+        );
+        // Out: back over the deck, standing on it.
+        l.leave_water(head, q);
+        assert!(!l.in_water());
+        let (p, _) = l.to_world(head, q);
+        assert!(close(p, Vec3::new(0.0, 2.9 + 1.7, 0.0)), "{p}");
+    }
+
+    #[test]
+    fn the_vignette_follows_the_moved_view_and_can_be_turned_off() {
+        let mut l = Locomotion::new(Vec3::new(0.0, 2.9, 0.0), LocomotionSettings::default());
+        let dt = 1.0 / 72.0;
+        let step = |l: &mut Locomotion, stick: f32| {
+            for _ in 0..72 {
+                l.update(Vec3::Y, Quat::IDENTITY, Vec2::new(0.0, stick), 0.0, dt);
+            }
+            l.vignette()
+        };
+        assert_eq!(step(&mut l, 0.0), 0.0);
+        // Gliding at 4 m/s: full; half a stick of it (2 m/s) too; standing still: gone.
+        assert!(step(&mut l, 1.0) > 0.99);
+        assert!(step(&mut l, 0.0) < 0.01);
+        let swim = {
+            l.enter_water(Vec3::Y, Quat::IDENTITY, Some(0.0));
+            step(&mut l, 1.0)
+        };
+        // Swimming at 1.2 m/s: 60 %.
+        assert!((swim - 0.6).abs() < 0.01, "{swim}");
+        l.set_water_comfort(true, false);
+        assert!(step(&mut l, 1.0) < 0.01);
     }
 
     fn close(a: Vec3, b: Vec3) -> bool {
