@@ -441,7 +441,7 @@ fn headless_gpu_pass(args: &[&str]) -> f64 {
 /// supersampling off) costs at most [`HEADSET_SPECULAR_AA_COST`] the pass without it; the
 /// ratio is the median over rounds of on over off within a round (the runs alternate).
 /// Anisotropic filtering is left off: Mesa 22.3's lavapipe filters its taps ~50x slower than
-/// a GPU's texture unit (`tests/render_anisotropy.rs`).
+/// a GPU's texture unit (`tests/render/anisotropy.rs`).
 #[test]
 fn frame_times_on_lavapipe_headset_specular_aa_at_the_quest_2_eye_size() {
     let _turn = TIMING.lock().unwrap_or_else(|e| e.into_inner());

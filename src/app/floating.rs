@@ -8,7 +8,7 @@
 //! first frame, where the deck can be put under the viewer and the bodies need a sea to float
 //! at their draft; a body that drifts out of sight is brought back (see [`RESPAWN_DISTANCE`]).
 //! Nothing here allocates per frame in steady state (rapier's own step aside: see
-//! `tests/physics_no_alloc.rs`).
+//! `tests/no_alloc/physics.rs`).
 
 use std::time::Duration;
 

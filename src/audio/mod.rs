@@ -27,7 +27,7 @@
 //! | `measure.rs` | power, centroid, onsets of rendered sound (tests, benchmark) |
 //!
 //! Invariants: the audio callback never allocates, blocks or does I/O
-//! (`tests/audio_no_alloc.rs`; its one lock is a `try_lock` that no one else holds while a
+//! (`tests/no_alloc/audio.rs`; its one lock is a `try_lock` that no one else holds while a
 //! stream plays); a stream is opened and closed on the keeper's thread, never in a callback;
 //! the same seed, frames and splashes render the same samples; no sample leaves louder than [`engine::CEILING`]; a missing device is one warning and a
 //! silent run. `audio` reads `sim` and `base` only (`tests/tidy.rs`).

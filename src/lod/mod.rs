@@ -16,7 +16,7 @@
 //!
 //! # No allocation per frame
 //! Map, stack, leaves, visibility and instances are sized once for the worst case (W² leaves);
-//! `tests/lod_no_alloc.rs` counts allocations.
+//! `tests/no_alloc/lod.rs` counts allocations.
 
 pub mod batch;
 pub mod frustum;

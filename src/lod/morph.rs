@@ -15,7 +15,7 @@
 //! The morph range of level l is [R_l + √2·s_l + 5h_l, R_(l−1) − 5h_l]: k = 1 on every vertex of
 //! a patch whenever it can be swapped for its parent, k = 0 on every vertex of a parent whenever
 //! it can be swapped for its children, also when a snap moves the node lattice under a fixed
-//! point. `tests/lod_geomorph.rs` walks viewers across split boundaries and snaps in 1-5 cm
+//! point. `tests/lod/geomorph.rs` walks viewers across split boundaries and snaps in 1-5 cm
 //! steps and bounds the rendered height change at fixed points by the morph's own motion. Not
 //! covered: the last two cells next to the grid's outer edge (which moves with the snap and
 //! changes its skirt stitching with the ring level), and heights where the ring rule forces

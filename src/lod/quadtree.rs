@@ -15,7 +15,7 @@
 //! node at, the former one coarser; below-range ring nodes split, and balancing can refine the
 //! whole ring further). The skirt for ring level r has its inner vertices at level r−1's
 //! spacing: ring patches at r stitch their outer edge to it, those at r−1 already match it.
-//! `tests/lod_watertight.rs` checks the drawn surface is closed (every inner edge used once in
+//! `tests/lod/watertight.rs` checks the drawn surface is closed (every inner edge used once in
 //! each direction, all triangles facing +y) for hundreds of viewers.
 
 use glam::Vec3;

@@ -29,7 +29,7 @@
 //!   should and accelerates as a body in water does. Out of the water the added mass is not
 //!   there: the step pushes the missing weight, C_a·m_w·g·(1 − w), down on the body, with the
 //!   wetness w = submerged volume / (footprint × [`WET_LENGTH`]) capped at 1, so a body in
-//!   the air falls at g (tests/physics_interact.rs throws one) and a floating body, wet by
+//!   the air falls at g (tests/physics/interact.rs throws one) and a floating body, wet by
 //!   more than [`WET_LENGTH`], feels none of it. It matters for
 //!   light, wide bodies (a crate of 250 kg/m³ heaves ~20 % slower, as real ones do) and
 //!   keeps the explicit coupling stable; rotational added inertia is left out.

@@ -13,7 +13,7 @@
 //!    heights of [`Surfaces::height_at`](crate::sim::Surfaces::height_at) (all cascades
 //!    summed, the horizontal (choppy) displacement inverted to the same tolerance), each
 //!    column's inversion warm-started from its last solution with quasi-Newton steps (in the
-//!    15 m/s sea of `tests/physics_stability.rs`, 3.4 iterations a point where the plain
+//!    15 m/s sea of `tests/physics/stability.rs`, 3.4 iterations a point where the plain
 //!    fixed point, warm-started too, took 8), and the vertical speed of the water particle at
 //!    each column.
 //! 2. [`buoyancy`]: Archimedes per column on its submerged volume, Froude-Krylov along the
@@ -27,11 +27,11 @@
 //! # Guarantees
 //!
 //! - **No allocation per step** in steady state: buffers are sized for [`MAX_BODIES`] at
-//!   creation; rapier's pipeline reuses its own (`tests/physics_no_alloc.rs` counts).
+//!   creation; rapier's pipeline reuses its own (`tests/no_alloc/physics.rs` counts).
 //! - **Deterministic**: a step is a pure function of the world and the heights it reads. It runs
 //!   on the caller's thread (rapier without its `parallel` feature), and the simulation's
 //!   surfaces are bit-identical for any thread count, so poses are too
-//!   (`tests/physics_stability.rs` compares 1 and 2 simulation threads bit for bit). Across
+//!   (`tests/physics/stability.rs` compares 1 and 2 simulation threads bit for bit). Across
 //!   platforms rapier may differ in the last bits (its `enhanced-determinism` feature is off).
 //! - **Bad input is a [`PhysicsError`]**, never a panic: too many bodies, a body that cannot
 //!   be placed, a size or density out of range.

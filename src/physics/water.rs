@@ -16,7 +16,7 @@
 //! surface moves its particles). Not the rate at which the surface climbs a fixed point
 //! (∂η/∂t): in a steep choppy sea the front of a passing crest rises there at up to the phase
 //! speed times the slope (~10 m/s at 15 m/s wind) while its water moves a few m/s, and drag
-//! towards that speed launched a small crate 14 m into the air (tests/physics_stability.rs).
+//! towards that speed launched a small crate 14 m into the air (tests/physics/stability.rs).
 //! Between updates (the simulation may run slower than the physics) the speed is held.
 
 use crate::physics::body::MAX_COLUMNS;

@@ -149,13 +149,27 @@ pub fn sound_report(stdout: &str) -> SoundLine {
     }
 }
 
-/// Whether `xvfb-run` is installed (the window tests skip without it).
+/// Whether `xvfb-run` is installed, for a window test about to use it. Missing under CI
+/// (`CI` set, as `cargo xtask test` and `.ci/run` run) it fails the test, naming what to
+/// install: a green run must have run the window. Elsewhere the test is skipped, loudly.
 #[allow(dead_code)]
-pub fn has_xvfb_run() -> bool {
-    Command::new("sh")
+pub fn need_xvfb_run(test: &str) -> bool {
+    let found = Command::new("sh")
         .args(["-c", "command -v xvfb-run"])
         .output()
-        .is_ok_and(|o| o.status.success())
+        .is_ok_and(|o| o.status.success());
+    if !found {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "{test}: xvfb-run is missing under CI (apt install xvfb; `cargo xtask test` \
+             installs it)"
+        );
+        eprintln!(
+            "SKIPPED {test}: xvfb-run is not installed (apt install xvfb; `cargo xtask test` \
+             does); under CI=true this fails"
+        );
+    }
+    found
 }
 
 /// `vr-ocean window` on a virtual screen: a small, cheap ocean (320x160, 64² grid, low

@@ -42,7 +42,7 @@ pub struct RendererSettings {
     /// (four shading positions per pixel, 1.2-1.5x the pass): a quality option for a device
     /// with headroom (the desktop). Off on the headsets, where the filtered lobe with the
     /// normal maps' anisotropic filtering meets the aliasing gate alone (issue 43,
-    /// `tests/render_aliasing.rs`). Switchable at run time
+    /// `tests/render/aliasing.rs`). Switchable at run time
     /// ([`super::OceanRenderer::set_supersampling`]; the GPU-time governor's first step).
     pub supersampling: bool,
     /// Anisotropic filtering of the cascades' normal maps where the device has it

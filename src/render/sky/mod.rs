@@ -327,7 +327,7 @@ mod tests {
         // 1.5 stops: the atmosphere's clear sky, 17 klux on a horizontal surface at 60° as
         // measured clear skies are, is darker than Preetham's 27 klux, and the meter opens up
         // about 1.2 stops on it; the midday images keep the sky and the sea in the tone map's
-        // linear range, tested below and in `tests/render_look.rs`).
+        // linear range, tested below and in `tests/render/look.rs`).
         assert!(readings[0].abs() < 1.5, "midday: {readings:?}");
         // A low sun: the bright sky band dominates the view, so the meter stops down (a
         // darker image than the incident reading's, which washed the sky out).

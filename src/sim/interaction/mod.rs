@@ -47,7 +47,7 @@
 //! the caller's thread, Rayon-free: our FFT's single-field transform is sequential anyway, and
 //! the physics steps the layer on the frame thread, where a parallel pass would push its jobs
 //! into Rayon's global injector, whose queue allocates a block every 63 jobs (18 allocations
-//! in 240 frames, `tests/render_no_alloc.rs`). It is the same bits on any thread count.
+//! in 240 frames, `tests/no_alloc/render.rs`). It is the same bits on any thread count.
 
 mod layer;
 pub mod measure;

@@ -27,7 +27,7 @@
 //! O'Muircheartaigh 1980, W = 3.84·10⁻⁶·U^3.41). The energy that breaking waves turn into foam
 //! comes from the wind stress τ = ρ_a·C_d·U², so the production rate G scales with U²: where
 //! the surface breaks is the Jacobian's, how much foam the breaking makes is the wind's.
-//! `tests/sea_state.rs` measures the resulting coverage against Monahan's law.
+//! `tests/app/sea_state.rs` measures the resulting coverage against Monahan's law.
 //!
 //! **Drift.** Foam floats: it rides the waves' orbital motion (the lattice is a rest-position
 //! field, displaced with the surface like every other) and drifts with the surface's mean
@@ -65,7 +65,7 @@ pub const WHITECAP_SPACING: [f32; WHITECAP_LEVELS] = [0.5, 2.0];
 
 /// Jacobian below which a lattice cell is breaking, per level. The coarser lattice filters
 /// more of the short waves' compression, so its threshold sits nearer 1 to give the same
-/// coverage of the same sea (measured in `tests/sea_state.rs`; set with the cascades sampled
+/// coverage of the same sea (measured in `tests/app/sea_state.rs`; set with the cascades sampled
 /// from their mips, `whitecaps/sampling.rs`).
 pub const WHITECAP_THRESHOLD: [f32; WHITECAP_LEVELS] = [0.855, 0.90];
 
