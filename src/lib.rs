@@ -1,9 +1,12 @@
 //! vr-ocean: an endless FFT ocean for OpenXR headsets.
 //!
-//! Data flows one way: [`sim`] (CPU ocean fields) → [`lod`] (quadtree geometry) → [`render`]
-//! (Vulkan) → [`xr`] (the frame loop's backends), tied together by [`app`]; [`physics`] (the
-//! bodies floating on the sea) reads [`sim`] beside [`lod`]. [`android`] is the Quest APK's
-//! edge (`android_main`). See `ARCHITECTURE.md`.
+//! Layers, each naming only those before it (`tests/tidy.rs` checks): [`base`] (vocabulary);
+//! [`sim`] (the CPU ocean) and [`lod`] (quadtree geometry, on `base` alone); [`physics`] (the
+//! bodies floating on the sea) and [`audio`] (its synthesized sound), both reading [`sim`];
+//! [`ui`] (the settings kept and the panel); [`render`] (Vulkan); [`xr`] (the frame loop's
+//! backends: OpenXR, the window, headless); [`app`] ties them into one loop. [`android`] is
+//! the Quest APK's edge (`android_main`); [`export`] and [`bench`] are the command line's tools
+//! on [`sim`]. See `ARCHITECTURE.md`.
 
 #![warn(missing_docs)]
 #![warn(clippy::undocumented_unsafe_blocks)]

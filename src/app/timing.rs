@@ -1,5 +1,5 @@
 //! Frame-time samples and their percentiles, collected without allocating per frame and
-//! written as `frame_times.json`, and the run's other counts ([`RunStats`]).
+//! written as `frame_times.json`, and the run's other counts (`RunStats`).
 
 use std::time::{Duration, Instant};
 

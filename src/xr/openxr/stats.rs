@@ -48,7 +48,7 @@ pub struct Summary {
     pub frames_with_panel: u64,
     /// Images of the panel's swapchain acquired (once per change of the panel).
     pub panel_images: u64,
-    /// The user floating in the water ([`FloatStats`]).
+    /// The user floating in the water (`FloatStats`).
     pub afloat: FloatStats,
 }
 
