@@ -5,7 +5,7 @@
 //! bodies floating on the sea) and [`audio`] (its synthesized sound), both reading [`sim`];
 //! [`ui`] (the settings kept and the panel); [`render`] (Vulkan); [`xr`] (the frame loop's
 //! backends: OpenXR, the window, headless); [`app`] ties them into one loop. [`android`] is
-//! the Quest APK's edge (`android_main`); [`export`] and [`bench`] are the command line's tools
+//! the Quest APK's edge (`android_main`); [`export`] and [`bench`](mod@bench) are the command line's tools
 //! on [`sim`]. See `ARCHITECTURE.md`.
 
 #![warn(missing_docs)]
