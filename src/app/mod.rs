@@ -346,8 +346,7 @@ impl<'a> Frames<'a> {
                 }
             }
             if let Some(ears) = self.ears.as_mut() {
-                let waves = &self.sim.config().waves;
-                ears.hear(&frame, self.sim.surfaces(), waves, self.afloat.as_ref())?;
+                ears.hear(&frame, self.sim.surfaces(), self.afloat.as_ref())?;
             }
             self.sim
                 .begin_step(frame.predicted_display_time + frame.period);

@@ -15,7 +15,7 @@ use crate::audio::link::Scheduling;
 use crate::audio::listen::{DeckOutline, ProbeInput, SeaProbe};
 use crate::audio::{AudioOutput, Listener, Sink, SoundConfig, Splash, WavRecorder};
 use crate::physics::impacts::MAX_IMPACTS;
-use crate::sim::{Surfaces, WaveParams};
+use crate::sim::Surfaces;
 use crate::xr::FrameState;
 
 /// Where a run's sound goes.
@@ -153,13 +153,12 @@ impl Ears {
         }
     }
 
-    /// Hears `frame`: the sea of `surfaces` (with the interaction layer of `afloat`), the
-    /// wind of `waves`, the frame's impacts.
+    /// Hears `frame`: the sea of `surfaces` (with the interaction layer of `afloat`) and its
+    /// wind ([`heard_wind`]), the frame's impacts.
     pub(crate) fn hear(
         &mut self,
         frame: &FrameState,
         surfaces: &Surfaces,
-        waves: &WaveParams,
         afloat: Option<&Afloat>,
     ) -> Result<(), AppError> {
         // A file holds the drawn frames only (a headless run's settling is not heard).
@@ -173,6 +172,7 @@ impl Ears {
             half: Vec2::from(d.size) * 0.5,
             underside: d.height - d.thickness,
         });
+        let (wind_speed, wind_toward_deg) = heard_wind(surfaces);
         let sound = self.probe.probe(&ProbeInput {
             time: frame.predicted_display_time,
             listener: Listener {
@@ -181,8 +181,8 @@ impl Ears {
             },
             surfaces,
             layer: world.and_then(|w| w.interaction()),
-            wind_speed: waves.wind_speed,
-            wind_toward_deg: waves.wind_direction_deg,
+            wind_speed,
+            wind_toward_deg,
             deck,
         });
         if frame.index.is_multiple_of(72) {
@@ -277,4 +277,65 @@ impl Ears {
 
 fn io(e: crate::audio::AudioError) -> AppError {
     AppError::Io(e.to_string())
+}
+
+/// The wind the sound blows with: the shown sea's ([`Surfaces::wind`]: speed in m/s, and the
+/// direction it blows toward in degrees from +x toward +z), so that during a sea-state change
+/// (a build, then a 5 s blend) the wind is heard changing with the waves, not before them.
+pub(crate) fn heard_wind(surfaces: &Surfaces) -> (f32, f32) {
+    let (speed, [x, z]) = surfaces.wind;
+    (speed, z.atan2(x).to_degrees())
+}
+
+#[cfg(test)]
+mod wind_tests {
+    use super::heard_wind;
+    use crate::sim::{OceanConfig, Simulation, WaveParams};
+
+    #[test]
+    fn during_a_sea_state_change_the_wind_heard_follows_the_shown_sea() {
+        let cfg = OceanConfig::default_cascades(32).unwrap();
+        let before = cfg.waves;
+        let mut sim = Simulation::new(cfg, 1).unwrap();
+        let dt = 1.0 / 72.0;
+        sim.step_blocking(0.0);
+        let after = WaveParams {
+            wind_speed: before.wind_speed + 8.0,
+            wind_direction_deg: before.wind_direction_deg + 90.0,
+            ..before
+        };
+        sim.set_waves(after).unwrap();
+        let (mut mid_speed, mut mid_dir) = (None, None);
+        let mut t = 0.0;
+        for _ in 0..(12.0 / dt) as usize {
+            t += dt;
+            sim.step_blocking(t);
+            let (speed, toward) = heard_wind(sim.surfaces());
+            // Never ahead of the waves: between the old wind and the new, in speed and
+            // direction.
+            assert!(
+                speed >= before.wind_speed - 1e-3 && speed <= after.wind_speed + 1e-3,
+                "{speed}"
+            );
+            let turned = (toward - before.wind_direction_deg).rem_euclid(360.0);
+            assert!(turned <= 90.0 + 1e-2, "turned {turned}");
+            if speed > before.wind_speed + 1.0 && speed < after.wind_speed - 1.0 {
+                mid_speed = Some(speed);
+                mid_dir = Some(turned);
+            }
+        }
+        // Heard in between while the sea blended, and at the new wind once it has.
+        let (mid_speed, mid_dir) = (mid_speed.expect("a blend"), mid_dir.unwrap());
+        assert!(
+            mid_dir > 1.0 && mid_dir < 89.0,
+            "mid-blend direction {mid_dir}"
+        );
+        let (speed, toward) = heard_wind(sim.surfaces());
+        assert!(
+            (speed - after.wind_speed).abs() < 1e-3,
+            "{speed} (mid {mid_speed})"
+        );
+        let off = (toward - after.wind_direction_deg).rem_euclid(360.0);
+        assert!(!(1e-2..=360.0 - 1e-2).contains(&off), "{toward}");
+    }
 }

@@ -3,7 +3,7 @@
 //! the runtime or the session goes away, a new instance is made once the runtime is back (as
 //! a Quest relaunches an app), in the same process, so whatever a session leaks adds up. It
 //! prints the process's memory and open files once a minute and a summary at the end; a test
-//! (`tests/soak.rs`, `cargo xtask soak`) takes the focus away, kills the runtime once and
+//! (`tests/soak/monado.rs`, `cargo xtask soak`) takes the focus away, kills the runtime once and
 //! judges the numbers.
 
 use std::time::{Duration, Instant};

@@ -22,8 +22,9 @@ pub struct Surfaces {
     /// Expected significant wave height 4·√(Σ variance) (m) of all cascades: the renderer
     /// tells crests from troughs by height over it.
     pub significant_height: f32,
-    /// The shown sea's wind at 10 m (m/s; a change's blend) and the unit direction (x, z) the
-    /// set waves' wind blows toward (a new one at once): the renderer streaks foam along it.
+    /// The shown sea's wind: its speed at 10 m (m/s) and the unit direction (x, z) it blows
+    /// toward, both following a change's blend with the waves: the renderer streaks foam
+    /// along it and the sound blows with it.
     pub wind: (f32, [f32; 2]),
 }
 

@@ -154,6 +154,9 @@ pub(crate) struct Retune {
     /// The wind shown at weight 0 and at 1 (the renderer's roughness and the whitecaps
     /// follow it).
     winds: [f32; 2],
+    /// The unit direction (x, z) the wind blows toward at weight 0 and at 1 (the foam
+    /// streaks and the sound follow it with the waves).
+    towards: [[f32; 2]; 2],
     /// The blend weight of the last step.
     weight: f64,
 }
@@ -173,6 +176,7 @@ impl Retune {
             model: SpectrumModel::new(waves),
             model_ready: true,
             winds: [waves.wind_speed; 2],
+            towards: [waves.toward(); 2],
             weight: 0.0,
         }
     }
@@ -186,6 +190,23 @@ impl Retune {
     pub fn shown_wind(&self) -> f32 {
         let [a, b] = self.winds;
         a + (b - a) * self.weight as f32
+    }
+
+    /// The unit direction (x, z) the shown spectrum's wind blows toward: turned from the old
+    /// to the new by the blend's weight (the shorter way round; straight against the old, the
+    /// new one at the blend's half).
+    pub fn shown_toward(&self) -> [f32; 2] {
+        let [a, b] = self.towards;
+        let w = self.weight as f32;
+        let (x, z) = (a[0] + (b[0] - a[0]) * w, a[1] + (b[1] - a[1]) * w);
+        let len = (x * x + z * z).sqrt();
+        if len > 1e-4 {
+            [x / len, z / len]
+        } else if w < 0.5 {
+            a
+        } else {
+            b
+        }
     }
 
     /// Whether the step from `old` to `new` waves can blend: the same draws and dispersion
@@ -203,6 +224,7 @@ impl Retune {
         cascades: &mut [CascadeSim],
     ) {
         let shown = self.shown_wind();
+        let shown_toward = self.shown_toward();
         for (c, target) in cascades.iter_mut().zip(targets) {
             let t = &mut c.tuning;
             let weight = t.weight;
@@ -222,6 +244,7 @@ impl Retune {
         self.waves = *waves;
         self.model_ready = false;
         self.winds = [shown, waves.wind_speed];
+        self.towards = [shown_toward, waves.toward()];
         self.weight = 0.0;
         self.phase = Phase::Build { rows: 0, rings: 0 };
     }
@@ -319,6 +342,7 @@ impl Retune {
             t.weight = 0.0;
         }
         self.winds = [self.waves.wind_speed; 2];
+        self.towards = [self.waves.toward(); 2];
         self.weight = 0.0;
         let shrinks = cascades
             .iter()

@@ -219,7 +219,7 @@ impl SimCore {
             .map(|c| c.spectrum.expected_variance)
             .sum();
         out.significant_height = 4.0 * variance.sqrt() as f32;
-        out.wind = (wind, waves.toward());
+        out.wind = (wind, self.retune.shown_toward());
         let mut times = StageTimes::default();
         for (c, surface) in self.cascades.iter_mut().zip(&mut out.cascades) {
             let at = StepAt { t, phase, params };

@@ -15,6 +15,5 @@ mod look;
 mod panel;
 mod shaders;
 mod sky;
-mod soak;
 mod underwater;
 mod water;

@@ -19,7 +19,7 @@
 //! step of `cargo xtask test`), the losses `VR_OCEAN_SOAK_LOSSES` (default 2);
 //! `cargo xtask soak` runs 20. Needs root and the Monado root, like `tests/openxr_monado.rs`.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::time::{Duration, Instant};
