@@ -207,8 +207,6 @@ struct Frames<'a> {
     panel: Option<panel::PanelHost>,
     /// The user asked to quit (the panel): the session ends before the next frame.
     quit: bool,
-    /// The user floated in the water last frame (the panel's button reads from it).
-    in_water: bool,
     /// Whether a simulation step is in flight (started for the coming frame's world time).
     in_flight: bool,
     /// Display time to world time across the user's absences (`FrameState::paused`).
@@ -283,7 +281,6 @@ impl<'a> Frames<'a> {
             ears,
             panel,
             quit: false,
-            in_water: false,
             in_flight: false,
             clock: clock::WorldClock::default(),
             kept: None,
@@ -329,7 +326,6 @@ impl<'a> Frames<'a> {
         let radius = crate::physics::wakes::SWIMMER_RADIUS;
         self.xr
             .report_water(surface.footprint_height_at(viewer.x, viewer.z, radius));
-        self.in_water = frame.in_water;
         let sim_step = self.sim.last_step_time();
         // Live changes (window keys, controllers) apply from the step started next.
         self.apply_tweaks(&frame)?;

@@ -99,7 +99,7 @@ impl Frames<'_> {
                 level: self.governed.as_ref().map(|g| g.level().name()),
             };
         }
-        let live = self.panel_model(host);
+        let live = self.panel_model(host, frame.in_water);
         let update: PanelUpdate = host.panel.update(&live, now);
         if update.redrawn {
             self.hooks.panel_drawn(frame);
@@ -152,8 +152,9 @@ impl Frames<'_> {
     }
 
     /// What the panel shows now: the waves and sky as set (or waiting to be), the bodies, the
-    /// comfort options and the performance line as last taken.
-    fn panel_model(&self, host: &PanelHost) -> PanelModel {
+    /// comfort options, whether the user is `in_water`, and the performance line as last
+    /// taken.
+    fn panel_model(&self, host: &PanelHost, in_water: bool) -> PanelModel {
         let waves = host.waves.unwrap_or(self.sim.config().waves);
         let sun = host.sun.unwrap_or(self.renderer.settings().sun);
         PanelModel {
@@ -168,7 +169,7 @@ impl Frames<'_> {
                 .and_then(|a| a.world())
                 .map_or(0, |w| w.live() as u32),
             comfort: host.comfort,
-            in_water: self.in_water,
+            in_water,
             perf: host.perf,
         }
     }

@@ -51,6 +51,35 @@ pub const SWIMMER_VOLUME: f32 = 0.02;
 /// The frontal area a swimmer pushes through the water (m²).
 pub const SWIMMER_AREA: f32 = 0.12;
 
+/// What presses on the water from outside the physics' bodies (`Floaters::press`).
+struct Presser {
+    radius: f32,
+    volume: f32,
+    /// Area the dynamic pressure acts over (m²).
+    area: f32,
+    /// Most foam a plunge makes.
+    foam: f32,
+    /// Whether the water it is under includes the layer's own waves (a hand: yes; a
+    /// floating body: not its own hollow).
+    reads_layer: bool,
+}
+
+const HAND: Presser = Presser {
+    radius: HAND_RADIUS,
+    volume: HAND_VOLUME,
+    area: HAND_AREA,
+    foam: 0.3,
+    reads_layer: true,
+};
+
+const SWIMMER: Presser = Presser {
+    radius: SWIMMER_RADIUS,
+    volume: SWIMMER_VOLUME,
+    area: SWIMMER_AREA,
+    foam: 0.0,
+    reads_layer: false,
+};
+
 /// The layer, its sources, and what each body put in last.
 pub(crate) struct Wakes {
     pub(crate) layer: InteractionLayer,
@@ -171,33 +200,15 @@ impl Floaters {
     }
 
     /// A floating user whose head is at `head`, moving at `velocity` (m/s): the body under the
-    /// head presses on the water with its volume and, swimming, with its dynamic pressure
-    /// ρv²/2 over its frontal area, so it makes waves and a wake like the hands do. Returns
-    /// whether its disturbance went into the next step (the layer on, the body in the water).
+    /// head (its shoulders 0.25 m under the eyes) presses on the water with its volume and,
+    /// swimming, with its dynamic pressure ρv²/2 over its frontal area, so it makes waves and
+    /// a wake as the hands do. Returns whether the body is in the water (its disturbance then
+    /// goes into the next step). Its own hollow in the layer is not read (as for the bodies:
+    /// reading it, it would sink into it).
     pub fn wade(&mut self, head: Vec3, velocity: Vec3, surfaces: &Surfaces) -> bool {
-        if self.wakes.is_none() || !head.is_finite() || !velocity.is_finite() {
-            return false;
-        }
-        let surface = surfaces.height_at(head.x, head.z);
-        // The shoulders are 0.25 m under the eyes.
-        let depth = surface - (head.y - 0.25);
-        if depth.is_nan() || depth <= 0.0 {
-            return false;
-        }
-        let g = self.config().gravity;
         let flat = Vec3::new(velocity.x, 0.0, velocity.z);
-        let dynamic = SWIMMER_AREA * flat.length_squared() / (2.0 * g);
-        let before = self.wakes.as_ref().map_or(0, |w| w.hands.len());
-        self.disturb(WaveSource {
-            x: head.x,
-            z: head.z,
-            radius: SWIMMER_RADIUS,
-            depth: (0.5 * depth).min(SWIMMER_RADIUS),
-            volume: SWIMMER_VOLUME + dynamic,
-            impulse: 0.5 * (-velocity.y).max(0.0) * SWIMMER_RADIUS,
-            foam: 0.0,
-        });
-        self.wakes.as_ref().map_or(0, |w| w.hands.len()) > before
+        let shoulders = head - Vec3::Y * 0.25;
+        self.press(shoulders, flat, velocity, &SWIMMER, surfaces)
     }
 
     /// A hand (controller) at `input` in the water of `surfaces`: when it is below the surface
@@ -205,29 +216,47 @@ impl Floaters {
     /// returns true. The hand presses with its volume and, moving, with its dynamic pressure
     /// ρv²/2 over its cross-section; plunging in, it pushes the water down.
     pub fn dip(&mut self, input: &HandInput, surfaces: &Surfaces) -> bool {
+        let v = input.linvel;
+        self.press(input.pose.position, v, v, &HAND, surfaces)
+    }
+
+    /// `what` at `p` (m) presses on the water of `surfaces` when it is under it: with its
+    /// volume, the dynamic pressure of `flow` (m/s) over its area, and the plunge of `velocity`
+    /// (its downward part, m/s). Returns whether it is in the water.
+    fn press(
+        &mut self,
+        p: Vec3,
+        flow: Vec3,
+        velocity: Vec3,
+        what: &Presser,
+        surfaces: &Surfaces,
+    ) -> bool {
         let Some(w) = &self.wakes else {
             return false;
         };
-        let p = input.pose.position;
-        if !p.is_finite() || !input.linvel.is_finite() {
+        if !p.is_finite() || !velocity.is_finite() {
             return false;
         }
-        let surface = surfaces.height_at(p.x, p.z) + w.layer.height_at(p.x, p.z);
-        let depth = surface - p.y;
+        let layer = if what.reads_layer {
+            w.layer.height_at(p.x, p.z)
+        } else {
+            0.0
+        };
+        let depth = surfaces.height_at(p.x, p.z) + layer - p.y;
         if depth.is_nan() || depth <= 0.0 {
             return false;
         }
-        let v = input.linvel;
         let g = self.config().gravity;
-        let dynamic = HAND_AREA * v.length_squared() / (2.0 * g);
+        let dynamic = what.area * flow.length_squared() / (2.0 * g);
+        let plunge = (-velocity.y).max(0.0);
         self.disturb(WaveSource {
             x: p.x,
             z: p.z,
-            radius: HAND_RADIUS,
-            depth: (0.5 * depth).min(HAND_RADIUS),
-            volume: HAND_VOLUME + dynamic,
-            impulse: 0.5 * (-v.y).max(0.0) * HAND_RADIUS,
-            foam: ((-v.y).max(0.0) / FOAM_ENTRY_SPEED * 0.3).min(0.3),
+            radius: what.radius,
+            depth: (0.5 * depth).min(what.radius),
+            volume: what.volume + dynamic,
+            impulse: 0.5 * plunge * what.radius,
+            foam: (plunge / FOAM_ENTRY_SPEED * what.foam).min(what.foam),
         });
         true
     }

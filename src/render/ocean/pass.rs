@@ -1,6 +1,7 @@
 //! The ocean pass: its uniforms (eyes, sun, cascades and their fade distances) and its
 //! recording: at most 16 instanced patch draws, the skirt, the solids (at most three instanced
-//! draws), the sky and the comfort vignette when the view is moved, for both eyes with multiview or for one eye per pass without.
+//! draws), the sky and the comfort vignette when the view is moved, for both eyes with
+//! multiview or for one eye per pass without.
 //!
 //! One pipeline draws the ocean (push constant `mode`: patches, skirt, sky), another the
 //! solids, which share its depth buffer so the water hides their submerged parts. The sky is a

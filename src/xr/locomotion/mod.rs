@@ -211,11 +211,6 @@ impl Locomotion {
         self.water.is_some()
     }
 
-    /// The float state, in the water.
-    pub fn afloat(&self) -> Option<&Afloat> {
-        self.water.as_ref().map(|(a, _)| a)
-    }
-
     /// The comfort vignette's strength now: 0 (none) to 1 (the view narrowed most).
     pub fn vignette(&self) -> f32 {
         self.vignette
