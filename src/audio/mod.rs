@@ -48,6 +48,8 @@ pub mod voices;
 pub mod wav;
 
 #[cfg(test)]
+mod reopen_tests;
+#[cfg(test)]
 mod tests;
 
 pub use device::{AudioOutput, Sink};

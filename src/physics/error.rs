@@ -2,7 +2,7 @@
 
 use std::fmt;
 
-use crate::physics::body::BodyKind;
+use crate::physics::kind::BodyKind;
 
 /// Why a world, a body or an interaction was refused.
 #[derive(Clone, Debug, PartialEq)]

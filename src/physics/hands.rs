@@ -20,8 +20,8 @@
 
 use glam::Vec3;
 
-use crate::physics::world::BodyId;
-use crate::physics::Pose;
+use crate::physics::slot::BodyId;
+use crate::physics::{Pose, PHYSICS_DT};
 
 /// Grip value (0..1) at which the hand closes.
 pub const GRIP_PRESS: f32 = 0.7;
@@ -197,6 +197,24 @@ impl Hand {
     pub fn cancel(&mut self) {
         self.state = HandState::Idle;
     }
+}
+
+/// Velocities that carry `from` to `to` in one step, capped at
+/// [`MAX_HOLD_SPEED`] and
+/// [`MAX_HOLD_SPIN`].
+pub(crate) fn drive_to(from: &Pose, to: &Pose) -> (Vec3, Vec3) {
+    let v = ((to.position - from.position) / PHYSICS_DT).clamp_length_max(MAX_HOLD_SPEED);
+    let mut turn = to.rotation * from.rotation.conjugate();
+    if turn.w < 0.0 {
+        turn = -turn;
+    }
+    let (axis, angle) = turn.to_axis_angle();
+    let w = if angle.is_finite() && axis.is_finite() {
+        (axis * angle / PHYSICS_DT).clamp_length_max(MAX_HOLD_SPIN)
+    } else {
+        Vec3::ZERO
+    };
+    (v, w)
 }
 
 #[cfg(test)]

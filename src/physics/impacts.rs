@@ -6,7 +6,6 @@
 
 use glam::Vec3;
 
-use super::world::Floaters;
 use super::{MAX_BODIES, PHYSICS_DT};
 
 /// Most impacts kept between two reads (more in one frame are dropped).
@@ -80,19 +79,6 @@ impl Impacts {
 
     pub(crate) fn clear(&mut self) {
         self.events.clear();
-    }
-}
-
-impl Floaters {
-    /// Bodies that hit the water since the last [`Floaters::clear_impacts`] (at most
-    /// [`MAX_IMPACTS`]), in step order.
-    pub fn impacts(&self) -> &[Impact] {
-        self.impacts.events()
-    }
-
-    /// Forgets the impacts read.
-    pub fn clear_impacts(&mut self) {
-        self.impacts.clear();
     }
 }
 

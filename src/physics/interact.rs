@@ -14,7 +14,8 @@ use crate::physics::body::BodySpec;
 use crate::physics::convert::to_rapier;
 use crate::physics::error::PhysicsError;
 use crate::physics::hands::{HandCommand, MAX_THROW_SPEED, MAX_THROW_SPIN};
-use crate::physics::world::{BodyId, BodyState, Floaters, Hold};
+use crate::physics::slot::{BodyId, BodyState, Hold};
+use crate::physics::world::Floaters;
 use crate::physics::{Pose, MAX_BODIES};
 
 /// How far in front of the origin [`Floaters::throw_from`] puts the body (m): out of the

@@ -51,7 +51,9 @@ pub mod error;
 pub mod hands;
 pub mod impacts;
 pub mod interact;
+pub mod kind;
 pub mod motor;
+mod slot;
 pub mod spawn;
 pub mod wakes;
 pub mod water;
@@ -59,13 +61,15 @@ mod world;
 
 use glam::{Mat4, Quat, Vec3};
 
-pub use body::{BodyKind, BodySpec};
+pub use body::BodySpec;
+pub use kind::BodyKind;
 pub use clock::{FixedClock, Ticks};
 pub use error::PhysicsError;
 pub use hands::{Hand, HandCommand, HandEvent, HandInput, HandState};
 pub use impacts::Impact;
 pub use spawn::BodyCount;
-pub use world::{BodyId, BodyInstance, BodyState, Energy, Floaters};
+pub use slot::{BodyId, BodyState};
+pub use world::{BodyInstance, Energy, Floaters};
 
 /// Fixed physics rate (Hz): a Quest's 90 Hz display, so at 90 Hz every frame gets one step.
 pub const PHYSICS_HZ: f32 = 90.0;

@@ -7,7 +7,8 @@ use glam::{Quat, Vec3};
 
 use crate::physics::error::{self, PhysicsError};
 use crate::physics::spawn::default_body;
-use crate::physics::world::{BodyId, Floaters};
+use crate::physics::slot::BodyId;
+use crate::physics::world::Floaters;
 use crate::physics::Pose;
 
 /// Fastest motor speed (m/s): a small boat's hull speed is a few m/s.

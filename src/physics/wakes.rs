@@ -17,7 +17,7 @@
 use glam::{Vec2, Vec3};
 
 use super::hands::HandInput;
-use super::world::{BodyState, Floaters, Slot};
+use super::slot::{BodyState, Slot};
 use super::MAX_BODIES;
 use crate::sim::interaction::{InteractionConfig, InteractionLayer, WaveSource};
 use crate::sim::Surfaces;
@@ -51,7 +51,7 @@ pub const SWIMMER_VOLUME: f32 = 0.02;
 /// The frontal area a swimmer pushes through the water (m²).
 pub const SWIMMER_AREA: f32 = 0.12;
 
-/// What presses on the water from outside the physics' bodies (`Floaters::press`).
+/// What presses on the water from outside the physics' bodies (`Wakes::press`).
 struct Presser {
     radius: f32,
     volume: f32,
@@ -170,59 +170,37 @@ impl Wakes {
     }
 }
 
-impl Floaters {
-    /// Turns the interaction layer on (`Some`: bodies and hands make waves, and feel them) or
-    /// off, centred on `centre` (world x, z).
-    pub fn set_interaction(&mut self, config: Option<InteractionConfig>, centre: Vec2) {
-        self.wakes = config.map(|c| Wakes::new(c, centre));
-    }
-
-    /// The interaction layer, when on.
-    pub fn interaction(&self) -> Option<&InteractionLayer> {
-        self.wakes.as_ref().map(|w| &w.layer)
-    }
-
+impl Wakes {
     /// Where the layer should be centred from the next step on (the viewer, world x, z).
-    pub fn follow(&mut self, centre: Vec2) {
-        if let Some(w) = &mut self.wakes {
-            w.centre = centre;
+    pub(crate) fn follow(&mut self, centre: Vec2) {
+        self.centre = centre;
+    }
+
+    /// Adds a disturbance to the next step (dropped beyond [`MAX_HAND_SOURCES`] a step).
+    pub(crate) fn disturb(&mut self, source: WaveSource) {
+        if self.hands.len() < MAX_HAND_SOURCES && source.is_valid() {
+            self.hands.push(source);
         }
     }
 
-    /// Adds a disturbance to the next step (dropped beyond [`MAX_HAND_SOURCES`] a step, or
-    /// when the layer is off).
-    pub fn disturb(&mut self, source: WaveSource) {
-        if let Some(w) = &mut self.wakes {
-            if w.hands.len() < MAX_HAND_SOURCES && source.is_valid() {
-                w.hands.push(source);
-            }
-        }
-    }
-
-    /// A floating user whose head is at `head`, moving at `velocity` (m/s): the body under the
-    /// head (its shoulders 0.25 m under the eyes) presses on the water with its volume and,
-    /// swimming, with its dynamic pressure ρv²/2 over its frontal area, so it makes waves and
-    /// a wake as the hands do. Returns whether the body is in the water (its disturbance then
-    /// goes into the next step). Its own hollow in the layer is not read (as for the bodies:
-    /// reading it, it would sink into it).
-    pub fn wade(&mut self, head: Vec3, velocity: Vec3, surfaces: &Surfaces) -> bool {
+    /// A floating user's body under `head`, moving at `velocity` (m/s): see
+    /// [`Floaters::wade`](crate::physics::Floaters::wade).
+    pub(crate) fn wade(&mut self, head: Vec3, velocity: Vec3, surfaces: &Surfaces, g: f32) -> bool {
         let flat = Vec3::new(velocity.x, 0.0, velocity.z);
         let shoulders = head - Vec3::Y * 0.25;
-        self.press(shoulders, flat, velocity, &SWIMMER, surfaces)
+        self.press(shoulders, flat, velocity, &SWIMMER, surfaces, g)
     }
 
-    /// A hand (controller) at `input` in the water of `surfaces`: when it is below the surface
-    /// (the sea's and the layer's height), its disturbance goes into the next step and this
-    /// returns true. The hand presses with its volume and, moving, with its dynamic pressure
-    /// ρv²/2 over its cross-section; plunging in, it pushes the water down.
-    pub fn dip(&mut self, input: &HandInput, surfaces: &Surfaces) -> bool {
+    /// A hand at `input` in the water of `surfaces`: see
+    /// [`Floaters::dip`](crate::physics::Floaters::dip).
+    pub(crate) fn dip(&mut self, input: &HandInput, surfaces: &Surfaces, g: f32) -> bool {
         let v = input.linvel;
-        self.press(input.pose.position, v, v, &HAND, surfaces)
+        self.press(input.pose.position, v, v, &HAND, surfaces, g)
     }
 
     /// `what` at `p` (m) presses on the water of `surfaces` when it is under it: with its
     /// volume, the dynamic pressure of `flow` (m/s) over its area, and the plunge of `velocity`
-    /// (its downward part, m/s). Returns whether it is in the water.
+    /// (its downward part, m/s), under gravity `g` (m/s²). Returns whether it is in the water.
     fn press(
         &mut self,
         p: Vec3,
@@ -230,15 +208,13 @@ impl Floaters {
         velocity: Vec3,
         what: &Presser,
         surfaces: &Surfaces,
+        g: f32,
     ) -> bool {
-        let Some(w) = &self.wakes else {
-            return false;
-        };
         if !p.is_finite() || !velocity.is_finite() {
             return false;
         }
         let layer = if what.reads_layer {
-            w.layer.height_at(p.x, p.z)
+            self.layer.height_at(p.x, p.z)
         } else {
             0.0
         };
@@ -246,7 +222,6 @@ impl Floaters {
         if depth.is_nan() || depth <= 0.0 {
             return false;
         }
-        let g = self.config().gravity;
         let dynamic = what.area * flow.length_squared() / (2.0 * g);
         let plunge = (-velocity.y).max(0.0);
         self.disturb(WaveSource {

@@ -8,39 +8,20 @@ use rapier3d::prelude::{
     ColliderBuilder, MassProperties, PhysicsWorld, RigidBodyBuilder, RigidBodyHandle,
 };
 
-use crate::physics::body::{BodyKind, BodySpec, Hull, FRICTION, MAX_COLUMNS};
+use crate::physics::body::{BodySpec, Hull, FRICTION, MAX_COLUMNS};
+use crate::physics::kind::BodyKind;
 use crate::physics::buoyancy::{self, Motion, Water, ADDED_MASS_COEFFICIENT};
 use crate::physics::clock::{FixedClock, Ticks};
 use crate::physics::convert::{from_rapier, pose_from_rapier, pose_to_rapier, to_rapier};
 use crate::physics::error::PhysicsError;
 use crate::physics::impacts::{Impact, Impacts};
+use crate::physics::hands::{drive_to, HandInput};
+use crate::physics::slot::{BodyId, BodyState, Slot};
 use crate::physics::wakes::Wakes;
 use crate::physics::water::{key, WaterSamples};
 use crate::physics::{DeckSpec, PhysicsConfig, Pose, MAX_BODIES, PHYSICS_DT};
+use crate::sim::interaction::{InteractionConfig, InteractionLayer, WaveSource};
 use crate::sim::Surfaces;
-
-/// A body of a [`Floaters`] world: its slot, stable while it lives (a sunk body's slot may be
-/// reused by [`Floaters::throw_from`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct BodyId(pub(crate) usize);
-
-impl BodyId {
-    /// The slot index (0..[`MAX_BODIES`]).
-    pub fn index(self) -> usize {
-        self.0
-    }
-}
-
-/// What a body is doing.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum BodyState {
-    /// Free: gravity, water and contacts move it.
-    Floating,
-    /// Following a hand ([`Floaters::grab`]).
-    Held,
-    /// Sank below the floor: out of the simulation, not drawn.
-    Sunk,
-}
 
 /// One body as a renderer draws it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -67,37 +48,6 @@ pub struct Energy {
     pub kinetic: f64,
     /// Gravitational potential energy relative to the mean sea level.
     pub potential: f64,
-}
-
-/// A hand's hold on a body: the body's pose relative to the hand and where it should be.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Hold {
-    pub(crate) offset: Pose,
-    pub(crate) target: Pose,
-}
-
-/// One body's slot.
-pub(crate) struct Slot {
-    pub(crate) spec: BodySpec,
-    pub(crate) hull: Hull,
-    pub(crate) handle: RigidBodyHandle,
-    pub(crate) state: BodyState,
-    pub(crate) prev: Pose,
-    pub(crate) curr: Pose,
-    pub(crate) flow: Vec2,
-    /// Real mass (kg) and the added mass riding with it (kg).
-    pub(crate) mass: f32,
-    pub(crate) added: f32,
-    /// Largest inverse principal moment of inertia (1/(kg·m²)).
-    inv_inertia: f32,
-    pub(crate) hold: Option<Hold>,
-    pub(crate) submerged: f32,
-    /// Where this step's samples of this body start.
-    first_sample: usize,
-    /// When it was last thrown ([`Floaters::throw_from`] reuses the oldest).
-    pub(crate) thrown: u64,
-    /// The speed its motor holds along its bow (m/s), for a launched boat.
-    pub(crate) motor: Option<f32>,
 }
 
 /// Floating bodies, the deck and the fixed-step clock. See the [module docs](crate::physics).
@@ -570,23 +520,66 @@ impl Floaters {
         }
         e
     }
-}
 
-/// Velocities that carry `from` to `to` in one step, capped at
-/// [`MAX_HOLD_SPEED`](crate::physics::hands::MAX_HOLD_SPEED) and
-/// [`MAX_HOLD_SPIN`](crate::physics::hands::MAX_HOLD_SPIN).
-fn drive_to(from: &Pose, to: &Pose) -> (Vec3, Vec3) {
-    use crate::physics::hands::{MAX_HOLD_SPEED, MAX_HOLD_SPIN};
-    let v = ((to.position - from.position) / PHYSICS_DT).clamp_length_max(MAX_HOLD_SPEED);
-    let mut turn = to.rotation * from.rotation.conjugate();
-    if turn.w < 0.0 {
-        turn = -turn;
+    /// Bodies that hit the water since the last [`Floaters::clear_impacts`] (at most
+    /// [`MAX_IMPACTS`](crate::physics::impacts::MAX_IMPACTS)), in step order.
+    pub fn impacts(&self) -> &[Impact] {
+        self.impacts.events()
     }
-    let (axis, angle) = turn.to_axis_angle();
-    let w = if angle.is_finite() && axis.is_finite() {
-        (axis * angle / PHYSICS_DT).clamp_length_max(MAX_HOLD_SPIN)
-    } else {
-        Vec3::ZERO
-    };
-    (v, w)
+
+    /// Forgets the impacts read.
+    pub fn clear_impacts(&mut self) {
+        self.impacts.clear();
+    }
+
+    /// Turns the interaction layer on (`Some`: bodies and hands make waves, and feel them) or
+    /// off, centred on `centre` (world x, z).
+    pub fn set_interaction(&mut self, config: Option<InteractionConfig>, centre: Vec2) {
+        self.wakes = config.map(|c| Wakes::new(c, centre));
+    }
+
+    /// The interaction layer, when on.
+    pub fn interaction(&self) -> Option<&InteractionLayer> {
+        self.wakes.as_ref().map(|w| &w.layer)
+    }
+
+    /// Where the layer should be centred from the next step on (the viewer, world x, z).
+    pub fn follow(&mut self, centre: Vec2) {
+        if let Some(w) = &mut self.wakes {
+            w.follow(centre);
+        }
+    }
+
+    /// Adds a disturbance to the next step (dropped beyond
+    /// [`MAX_HAND_SOURCES`](crate::physics::wakes::MAX_HAND_SOURCES) a step, or when the
+    /// layer is off).
+    pub fn disturb(&mut self, source: WaveSource) {
+        if let Some(w) = &mut self.wakes {
+            w.disturb(source);
+        }
+    }
+
+    /// A floating user whose head is at `head`, moving at `velocity` (m/s): the body under the
+    /// head (its shoulders 0.25 m under the eyes) presses on the water with its volume and,
+    /// swimming, with its dynamic pressure ρv²/2 over its frontal area, so it makes waves and
+    /// a wake as the hands do. Returns whether the body is in the water (its disturbance then
+    /// goes into the next step). Its own hollow in the layer is not read (as for the bodies:
+    /// reading it, it would sink into it).
+    pub fn wade(&mut self, head: Vec3, velocity: Vec3, surfaces: &Surfaces) -> bool {
+        let g = self.config.gravity;
+        self.wakes
+            .as_mut()
+            .is_some_and(|w| w.wade(head, velocity, surfaces, g))
+    }
+
+    /// A hand (controller) at `input` in the water of `surfaces`: when it is below the surface
+    /// (the sea's and the layer's height), its disturbance goes into the next step and this
+    /// returns true. The hand presses with its volume and, moving, with its dynamic pressure
+    /// ρv²/2 over its cross-section; plunging in, it pushes the water down.
+    pub fn dip(&mut self, input: &HandInput, surfaces: &Surfaces) -> bool {
+        let g = self.config.gravity;
+        self.wakes
+            .as_mut()
+            .is_some_and(|w| w.dip(input, surfaces, g))
+    }
 }

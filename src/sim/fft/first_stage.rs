@@ -4,7 +4,7 @@
 
 use std::ops::Range;
 
-use super::kernel::{bfly4, cmul, quarters, store_row, tw4, Simd, Tw, C, TILE};
+use super::butterfly::{bfly4, cmul, quarters, store_row, tw4, Simd, Tw, C, TILE};
 use super::plan::{CRow, Plan, STRIP};
 
 /// Offset of the STRIP source values of row `r` of strip `strip`: natural row-major in pass 1,

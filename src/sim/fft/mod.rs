@@ -38,6 +38,7 @@
 //! writes every row before any stage reads one. After that, transforms allocate nothing.
 
 mod backend;
+mod butterfly;
 mod first_stage;
 mod kernel;
 #[cfg(target_arch = "aarch64")]

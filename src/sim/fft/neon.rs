@@ -3,7 +3,8 @@
 
 use core::arch::aarch64::*;
 
-use super::kernel::{self, Job, Simd};
+use super::butterfly::Simd;
+use super::kernel::{self, Job};
 use super::plan::{CRow, Plan};
 
 /// NEON token (always available on aarch64).

@@ -1,7 +1,8 @@
 //! Portable backend: the generic kernel over a `[f32; 4]` "vector". No intrinsics and no unsafe;
 //! the reference every SIMD backend must agree with, and the fallback on any CPU.
 
-use super::kernel::{self, Job, Simd};
+use super::butterfly::Simd;
+use super::kernel::{self, Job};
 use super::plan::{CRow, Plan};
 
 /// The portable backend's token (always available).

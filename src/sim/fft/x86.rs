@@ -7,7 +7,8 @@
 
 use core::arch::x86_64::*;
 
-use super::kernel::{self, Job, Simd};
+use super::butterfly::Simd;
+use super::kernel::{self, Job};
 use super::plan::{CRow, Plan};
 
 /// SSE2 token. SSE2 is part of the x86_64 baseline, so it is always available.

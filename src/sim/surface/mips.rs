@@ -5,7 +5,7 @@
 
 use rayon::prelude::*;
 
-use super::{mip_block, planes_mut, CascadeSurface};
+use super::layout::{mip_block, planes_mut, CascadeSurface};
 use crate::sim::pack;
 use crate::sim::simd::dispatch;
 

@@ -47,21 +47,12 @@ mod sampling;
 
 use rayon::prelude::*;
 
+pub use sampling::{WHITECAP_LEVELS, WHITECAP_SPACING, WHITECAP_TEXELS};
 use sampling::{add_cascade, mip_for, DisplacementMips, Lattice};
 
 use crate::sim::grid::GridSize;
 use crate::sim::params::FoamParams;
 use crate::sim::surface::CascadeSurface;
-
-/// Texels per side of each whitecap level.
-pub const WHITECAP_TEXELS: usize = 256;
-
-/// Whitecap levels: a fine one near the viewer and a coarse one out to the mid distance.
-pub const WHITECAP_LEVELS: usize = 2;
-
-/// Lattice spacing (m) of each level: level 0 covers ±64 m around the viewer at 0.5 m, level 1
-/// ±256 m at 2 m. Beyond, the renderer uses level 1's mean coverage.
-pub const WHITECAP_SPACING: [f32; WHITECAP_LEVELS] = [0.5, 2.0];
 
 /// Jacobian below which a lattice cell is breaking, per level. The coarser lattice filters
 /// more of the short waves' compression, so its threshold sits nearer 1 to give the same

@@ -12,9 +12,18 @@
 use half::slice::HalfFloatSliceExt;
 use rayon::prelude::*;
 
-use super::WHITECAP_TEXELS;
 use crate::sim::grid::GridSize;
 use crate::sim::surface::CascadeSurface;
+
+/// Whitecap levels: a fine one near the viewer and a coarse one out to the mid distance.
+pub const WHITECAP_LEVELS: usize = 2;
+
+/// Lattice spacing (m) of each level: level 0 covers ±64 m around the viewer at 0.5 m, level 1
+/// ±256 m at 2 m. Beyond, the renderer uses level 1's mean coverage.
+pub const WHITECAP_SPACING: [f32; WHITECAP_LEVELS] = [0.5, 2.0];
+
+/// Texels per side of each whitecap level.
+pub const WHITECAP_TEXELS: usize = 256;
 
 /// One cascade's (Dx, Dz) as f32: level 0 and the box-filtered mips the lattices sample, each
 /// level row-major right after the previous one. Converted once per cascade and step (converting
@@ -282,7 +291,6 @@ fn add_cascade_per_point(view: MipView<'_>, lattice: Lattice, xz: &mut [[f32; 2]
 
 #[cfg(test)]
 mod tests {
-    use super::super::WHITECAP_SPACING;
     use super::*;
     use crate::sim::surface::FloatCopies;
     use half::f16;

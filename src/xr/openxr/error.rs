@@ -4,6 +4,8 @@
 
 use openxr as xr;
 
+use crate::xr::XrError;
+
 /// A failed OpenXR call.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct CallError {
@@ -95,4 +97,9 @@ mod tests {
         assert!(check(xr::sys::Result::SESSION_LOSS_PENDING).is_ok());
         assert!(check(xr::sys::Result::ERROR_VALIDATION_FAILURE).is_err());
     }
+}
+
+/// Why the backend could not start or stopped: a message that says what to install or check.
+pub(super) fn backend(msg: impl Into<String>) -> XrError {
+    XrError::Backend(msg.into())
 }

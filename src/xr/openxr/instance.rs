@@ -4,7 +4,8 @@
 
 use openxr as xr;
 
-use super::{backend, OpenXrOptions};
+use super::error::backend;
+use super::OpenXrOptions;
 use crate::xr::XrError;
 
 /// Loads the OpenXR loader (the system's, or the APK's on Android).

@@ -44,7 +44,7 @@ use std::time::{Duration, Instant};
 use ash::vk;
 use openxr as xr;
 
-use self::error::Call;
+use self::error::{backend, Call};
 pub use self::error::CallError;
 pub use self::exit_signal::{install_exit_signal_handler, EXIT_SIGNAL};
 use self::lifecycle::{Action, Lifecycle};
@@ -122,8 +122,6 @@ pub enum FramePoll {
     Done,
 }
 
-/// Standing eye height assumed when the runtime offers only LOCAL space (m above its floor).
-const LOCAL_EYE_HEIGHT: f32 = 1.6;
 
 /// The frame in progress between [`FrameLoop::begin_frame`] and [`FrameLoop::end_frame`].
 #[derive(Clone, Copy)]
@@ -185,11 +183,6 @@ pub struct OpenXr {
     event_buffer: xr::EventDataBuffer,
     /// The control panel's quad layer.
     panel: panel::QuadPanel,
-}
-
-/// Why the backend could not start or stopped: a message that says what to install or check.
-fn backend(msg: impl Into<String>) -> XrError {
-    XrError::Backend(msg.into())
 }
 
 impl OpenXr {

@@ -12,7 +12,9 @@ use openxr as xr;
 
 use super::error::Call;
 use super::panel_aim::{AimFrame, AimPointer, HandAim, PanelQuad};
-use super::{backend, OpenXr, LOCAL_EYE_HEIGHT};
+use super::error::backend;
+use super::session::LOCAL_EYE_HEIGHT;
+use super::OpenXr;
 use crate::render::barrier::Access;
 use crate::render::memory;
 use crate::render::panel::{PanelCanvas, PanelTarget};

@@ -10,9 +10,12 @@ use super::error::Call;
 use super::foveation;
 use super::input::Input;
 use super::swapchain::{self, ArraySwapchain};
-use super::{backend, LOCAL_EYE_HEIGHT};
+use super::error::backend;
 use crate::render::GpuContext;
 use crate::xr::XrError;
+
+/// Standing eye height assumed when the runtime offers only LOCAL space (m above its floor).
+pub(super) const LOCAL_EYE_HEIGHT: f32 = 1.6;
 
 /// Session objects, destroyed before the Vulkan device (dropping this destroys them).
 pub(super) struct Session {

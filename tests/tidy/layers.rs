@@ -1,13 +1,9 @@
-//! Tidy tests in the manner of rust-analyzer's: they read the sources and fail on structure that
-//! would otherwise only live in ARCHITECTURE.md.
-//!
-//! - Layering: data flows `sim → lod → render → xr → app → android`, with `base` (vocabulary
-//!   shared by all) underneath; a module may name only the layers below it. A back edge fails
-//!   with the file, the line and the rule it breaks.
-//! - Size: no source file over [`MAX_LINES`] lines unless it is listed in [`LONG_FILES`] with the
-//!   reason one algorithm needs the room.
+//! The layers: a module may name only the layers below it; a back edge fails with the file, the
+//! line and the rule it breaks.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
+
+use crate::{rust_files, src};
 
 /// The crate's top-level modules and what each may use (besides itself).
 const LAYERS: &[(&str, &[&str])] = &[
@@ -38,31 +34,6 @@ const LAYERS: &[(&str, &[&str])] = &[
     ("bench", &["base", "sim"]),
     ("export", &["base", "sim"]),
 ];
-
-/// Longest file (lines) allowed without a listed reason.
-const MAX_LINES: usize = 600;
-
-/// Files allowed above [`MAX_LINES`], each with why.
-const LONG_FILES: &[(&str, &str)] = &[];
-
-fn src() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("src")
-}
-
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let mut entries: Vec<_> = std::fs::read_dir(dir)
-        .unwrap_or_else(|e| panic!("cannot read {}: {e}", dir.display()))
-        .map(|e| e.unwrap().path())
-        .collect();
-    entries.sort();
-    for p in entries {
-        if p.is_dir() {
-            rust_files(&p, out);
-        } else if p.extension().is_some_and(|e| e == "rs") {
-            out.push(p);
-        }
-    }
-}
 
 /// The layer a source file belongs to (its first path component under `src/`, without `.rs`);
 /// `None` for the crate root, the binary and its `cli` module, which may use everything.
@@ -184,24 +155,4 @@ fn the_layer_parser_sees_back_edges() {
     );
     assert_eq!(layer_of(Path::new("export.rs")).as_deref(), Some("export"));
     assert_eq!(layer_of(Path::new("main.rs")), None);
-}
-
-#[test]
-fn no_source_file_is_too_long_to_read() {
-    let root = src();
-    let mut files = Vec::new();
-    rust_files(&root, &mut files);
-    let mut long = Vec::new();
-    for file in &files {
-        let rel = file.strip_prefix(&root).unwrap().display().to_string();
-        let lines = std::fs::read_to_string(file).unwrap().lines().count();
-        let listed = LONG_FILES.iter().any(|(f, _)| *f == rel);
-        if lines > MAX_LINES && !listed {
-            long.push(format!(
-                "src/{rel}: {lines} lines (over {MAX_LINES}): split it by job, or list it in \
-                 LONG_FILES with the reason"
-            ));
-        }
-    }
-    assert!(long.is_empty(), "{}", long.join("\n"));
 }
