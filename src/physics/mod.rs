@@ -208,7 +208,7 @@ impl Default for PhysicsConfig {
                 thickness: DEFAULT_DECK_THICKNESS,
             }),
             floor_depth: DEFAULT_FLOOR_DEPTH,
-            gravity: crate::sim::params::GRAVITY,
+            gravity: crate::sim::dispersion::GRAVITY,
             water_density: WATER_DENSITY,
         }
     }

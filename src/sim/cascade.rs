@@ -2,16 +2,36 @@
 //! work buffers its derivative mode needs ([`Derivatives`]) and its persistent foam.
 //! [`crate::sim::SimCore`] owns one per cascade and shares the FFT plan and scratch among them.
 
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use crate::sim::evolve::{self, LoopPhase, OutsideSupport};
 use crate::sim::fft::{Fft2d, Output};
 use crate::sim::grid::{AlignedBuf, GridSize, SplitField};
-use crate::sim::params::Derivatives;
-use crate::sim::retune::Tuning;
+use crate::sim::params::{Derivatives, WaveParams};
 use crate::sim::spectrum::{CascadeSpec, PackedSpectrum};
-use crate::sim::step::StageTimes;
 use crate::sim::surface::{self, CascadeSurface, SurfaceParams, Transformed};
+use crate::sim::tuning::Tuning;
+
+/// Wall time of each stage of the last step, summed over cascades (thesis Table 1).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StageTimes {
+    /// Stage 2: time evolution and packing of the derivative spectra.
+    pub evolve: Duration,
+    /// Stages 3-4: the inverse 2D FFTs (four per cascade, two with
+    /// [`Derivatives::Finite`](crate::sim::Derivatives::Finite)).
+    pub fft: Duration,
+    /// Stages 5-6+: displacement, normals, Jacobian, foam, packing and mips.
+    pub surface: Duration,
+    /// Whitecaps of the whole surface ([`crate::sim::whitecaps`]).
+    pub whitecaps: Duration,
+}
+
+impl StageTimes {
+    /// Sum of all stages.
+    pub fn total(&self) -> Duration {
+        self.evolve + self.fft + self.surface + self.whitecaps
+    }
+}
 
 /// One cascade's FFT work buffers, as many as its derivative mode transforms.
 enum Fields {
@@ -143,5 +163,38 @@ impl CascadeSim {
         times.evolve += t1 - t0;
         times.fft += t2 - t1;
         times.surface += t3 - t2;
+    }
+}
+
+impl CascadeSim {
+    /// Changes this cascade to `spec` and `waves` at once (a change that cannot blend): stage 1
+    /// in full into the buffers held, the persistent foam kept.
+    pub fn retune_at_once(&mut self, spec: CascadeSpec, waves: &WaveParams) {
+        self.tuning.rebuild(&spec, waves);
+        self.spectrum
+            .harmonic
+            .copy_from_slice(&self.tuning.lattice.harmonic);
+        self.spec = spec;
+        self.show_current();
+    }
+
+    /// Packs the blend at weight `w` into the spectrum the evolution reads.
+    pub(crate) fn show_blend(&mut self, w: f32) {
+        self.fade_patch = self.tuning.show_blend(w, &mut self.spectrum);
+    }
+
+    /// Packs the current state's powers into the spectrum the evolution reads.
+    pub(crate) fn show_current(&mut self) {
+        self.fade_patch = self.tuning.show_current(&mut self.spectrum);
+    }
+
+    /// Moves this cascade to the grid of `spec` (see [`Tuning::switch_grid`]).
+    pub(crate) fn switch_grid(&mut self, spec: CascadeSpec) {
+        if self
+            .tuning
+            .switch_grid(&self.spec, &spec, &mut self.foam, &mut self.spectrum.harmonic)
+        {
+            self.spec = spec;
+        }
     }
 }

@@ -1,6 +1,7 @@
 //! Dispersion relations (thesis 3.3) and the loop quantization that makes the animation repeat.
 
-use crate::sim::params::GRAVITY;
+/// Standard gravity (m/s²).
+pub const GRAVITY: f32 = 9.81;
 
 /// Beyond this k·d, tanh(k·d) equals 1 in f64, so finite depth is deep water.
 const DEEP_KD: f64 = 20.0;

@@ -46,7 +46,7 @@ pub fn surface_drift(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::params::OceanConfig;
+    use crate::sim::config::OceanConfig;
     use crate::sim::spectrum::PackedSpectrum;
 
     /// The drift of the default cascades' sea at `wind` blowing toward 30°.

@@ -37,6 +37,7 @@ pub mod awake;
 mod cascade;
 pub mod detail;
 pub mod dispersion;
+pub mod config;
 pub mod drift;
 pub mod evolve;
 pub mod fft;
@@ -50,14 +51,18 @@ pub mod retune;
 pub mod simd;
 pub mod spectrum;
 pub mod step;
+mod tuning;
 pub mod surface;
 pub mod trig;
 pub mod whitecaps;
 pub mod workers;
 
 pub use grid::{AlignedBuf, GridSize, SplitField, Support};
+pub use config::{OceanConfig, PatchFit, DEFAULT_PATCH_SIZES};
+pub use dispersion::GRAVITY;
 pub use params::{
-    Derivatives, FoamParams, OceanConfig, PatchFit, SpectrumKind, WaveParams, DEFAULT_DERIVATIVES,
-    DEFAULT_FETCH_KM, DEFAULT_GAMMA, DEFAULT_PATCH_SIZES,
+    Derivatives, FoamParams, SpectrumKind, WaveParams, DEFAULT_DERIVATIVES, DEFAULT_FETCH_KM,
+    DEFAULT_GAMMA,
 };
-pub use step::{SimCore, SimError, Simulation, StageTimes, Surfaces};
+pub use cascade::StageTimes;
+pub use step::{SimCore, SimError, Simulation, Surfaces};

@@ -2,7 +2,7 @@
 //! statistics the renderer shades with), double-buffered against the renderer
 //! ([`crate::sim::step`]).
 
-use crate::sim::params::OceanConfig;
+use crate::sim::config::OceanConfig;
 use crate::sim::query;
 use crate::sim::surface::{CascadeSurface, FloatCopies};
 use crate::sim::whitecaps::Whitecaps;

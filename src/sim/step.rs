@@ -5,38 +5,18 @@ use std::sync::{Arc, Condvar, Mutex};
 use std::time::{Duration, Instant};
 
 use crate::base::ParamError;
-use crate::sim::cascade::{CascadeSim, StepAt};
+use crate::sim::cascade::{CascadeSim, StageTimes, StepAt};
 use crate::sim::evolve::LoopPhase;
 use crate::sim::fft::Fft2d;
 use crate::sim::grid::{GridSize, SplitField};
-use crate::sim::params::{OceanConfig, PatchFit, WaveParams};
+use crate::sim::config::{OceanConfig, PatchFit};
+use crate::sim::params::WaveParams;
 use crate::sim::retune::Retune;
 use crate::sim::spectrum::PackedSpectrum;
 use crate::sim::surface::SurfaceParams;
 use crate::sim::whitecaps::{WhitecapInput, WhitecapState};
 
 pub use crate::sim::output::Surfaces;
-
-/// Wall time of each stage of the last step, summed over cascades (thesis Table 1).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct StageTimes {
-    /// Stage 2: time evolution and packing of the derivative spectra.
-    pub evolve: Duration,
-    /// Stages 3-4: the inverse 2D FFTs (four per cascade, two with
-    /// [`Derivatives::Finite`](crate::sim::Derivatives::Finite)).
-    pub fft: Duration,
-    /// Stages 5-6+: displacement, normals, Jacobian, foam, packing and mips.
-    pub surface: Duration,
-    /// Whitecaps of the whole surface ([`crate::sim::whitecaps`]).
-    pub whitecaps: Duration,
-}
-
-impl StageTimes {
-    /// Sum of all stages.
-    pub fn total(&self) -> Duration {
-        self.evolve + self.fft + self.surface + self.whitecaps
-    }
-}
 
 /// FFT scratch fields on the current Rayon pool: two up to N = 256 with two or more threads, so
 /// the four transforms go in two groups of two and a step has four fork-joins in its FFT

@@ -7,7 +7,9 @@
 //! item comes from, so `use super::BodyKind` in `physics/world.rs` is an edge to
 //! `physics/body.rs` when `physics/mod.rs` re-exports it from there. A re-export itself is the
 //! room's front door, not a dependency: `physics/mod.rs` re-exporting `world::Floaters` does not
-//! make `mod.rs` depend on `world.rs`. The binary (`main.rs`, `cli/`) is a crate of its own.
+//! make `mod.rs` depend on `world.rs`. Test modules (`#[cfg(test)] mod tests { .. }`) do not
+//! count: they are never part of the program, and build their fixtures from anywhere in their
+//! layer. The binary (`main.rs`, `cli/`) is a crate of its own.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -159,19 +161,23 @@ fn inline_paths(code: &str) -> Vec<Vec<String>> {
 fn parse(module: ModPath, text: &str) -> (Parsed, Vec<ModPath>) {
     let mut uses = Vec::new();
     let mut inline = Vec::new();
-    let mut stack: Vec<(usize, String)> = Vec::new();
+    // Open inline modules: indent, name, whether it is a test module.
+    let mut stack: Vec<(usize, String, bool)> = Vec::new();
     let mut pending: Option<(usize, bool, String)> = None;
+    let mut after_cfg_test = false;
     for (i, raw) in text.lines().enumerate() {
         let indent = raw.len() - raw.trim_start().len();
         let trimmed = raw.trim();
-        if let Some((open_indent, _)) = stack.last() {
+        if let Some((open_indent, _, _)) = stack.last() {
             if trimmed == "}" && indent == *open_indent {
                 stack.pop();
                 continue;
             }
         }
+        let cfg_test = std::mem::replace(&mut after_cfg_test, trimmed == "#[cfg(test)]");
         let mut scope = module.clone();
-        scope.extend(stack.iter().map(|(_, n)| n.clone()));
+        scope.extend(stack.iter().map(|(_, n, _)| n.clone()));
+        let in_test = stack.iter().any(|(_, _, test)| *test);
         let code = code_of(raw);
         let words: Vec<&str> = code.split_whitespace().collect();
         let mod_at = words.iter().position(|w| *w == "mod");
@@ -181,9 +187,12 @@ fn parse(module: ModPath, text: &str) -> (Parsed, Vec<ModPath>) {
                 let mut m = scope.clone();
                 m.push(name.clone());
                 inline.push(m);
-                stack.push((indent, name));
+                stack.push((indent, name, cfg_test));
                 continue;
             }
+        }
+        if in_test {
+            continue;
         }
         if let Some((line, reexport, mut acc)) = pending.take() {
             acc.push(' ');
@@ -501,7 +510,8 @@ fn the_loop_finder_sees_a_loop() {
         file("physics/b.rs", b_clean),
     ]);
     assert!(clean.is_empty(), "{clean:?}");
-    // A multi-line grouped `use`, an inline path, and a test module's `super::*`.
+    // A multi-line grouped `use`, an inline path and a plain `use` close a loop of three; the
+    // same back edge in a test module does not.
     let three = import_loops(&[
         file("lib.rs", "pub mod sim;\n"),
         file("sim/mod.rs", "mod x;\nmod y;\nmod z;\n"),
@@ -509,7 +519,7 @@ fn the_loop_finder_sees_a_loop() {
         file("sim/y.rs", "pub struct Y;\nfn f() { crate::sim::z::go() }\n"),
         file(
             "sim/z.rs",
-            "pub fn go() {}\n#[cfg(test)]\nmod tests {\n    use super::*;\n    use crate::sim::x::X;\n}\n",
+            "use crate::sim::x::X;\npub fn go() {}\n#[cfg(test)]\nmod tests {\n    use super::*;\n}\n",
         ),
     ]);
     assert_eq!(three.len(), 1, "{three:?}");
@@ -518,6 +528,16 @@ fn the_loop_finder_sees_a_loop() {
         "{}",
         three[0]
     );
+    let tested = import_loops(&[
+        file("lib.rs", "pub mod sim;\n"),
+        file("sim/mod.rs", "mod x;\nmod y;\n"),
+        file("sim/x.rs", "use super::y::Y;\npub struct X;\n"),
+        file(
+            "sim/y.rs",
+            "pub struct Y;\n#[cfg(test)]\nmod tests {\n    use crate::sim::x::X;\n}\n",
+        ),
+    ]);
+    assert!(tested.is_empty(), "{tested:?}");
     assert_eq!(
         expand_tree("a::{b, c::{d, self}, e as f}"),
         [vec!["a", "b"], vec!["a", "c", "d"], vec!["a", "c"], vec!["a", "e"]]

@@ -8,7 +8,7 @@
 //! sea takes x_eff = min(x, [`SATURATED_FETCH`]) and scales α so that Hs = 4√m0 follows the
 //! law g·Hs/U² = min(1.6e-3·√x, 0.22).
 
-use crate::sim::params::GRAVITY;
+use crate::sim::dispersion::GRAVITY;
 
 /// The dimensionless fetch gF/U² at which a wind sea stops growing (fully developed): where the
 /// fetch-limited law 1.6e-3·√x meets the Pierson-Moskowitz limit 0.22.

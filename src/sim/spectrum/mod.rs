@@ -340,7 +340,7 @@ impl PackedSpectrum {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::params::OceanConfig;
+    use crate::sim::config::OceanConfig;
 
     fn spec(cfg: &OceanConfig, i: usize) -> CascadeSpec {
         cfg.cascade_specs()[i]

@@ -244,7 +244,7 @@ impl Moments {
     pub fn of_rows(p: &[f32], grid: GridSize, patch: f32, rows: Range<usize>) -> Self {
         let n = grid.n();
         let dx = patch as f64 / n as f64;
-        let g = crate::sim::params::GRAVITY as f64;
+        let g = crate::sim::dispersion::GRAVITY as f64;
         let (variance, resolved, resolved_finite, stokes_x, stokes_z) = rows
             .into_par_iter()
             .map(|row| {
@@ -359,7 +359,7 @@ pub fn tail_rings(model: &SpectrumModel, c: &CascadeSpec, rings: Range<usize>) -
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::params::OceanConfig;
+    use crate::sim::config::OceanConfig;
 
     #[test]
     fn a_grown_grid_holds_the_smaller_grids_modes_with_their_draws() {
@@ -423,7 +423,7 @@ mod tests {
         let (kx, kz) = wave_vector(col, row, grid, patch);
         let k = kx.hypot(kz);
         let a2 = 4.0 * power as f64;
-        let speed = a2 * (crate::sim::params::GRAVITY as f64 * k).sqrt() * k;
+        let speed = a2 * (crate::sim::dispersion::GRAVITY as f64 * k).sqrt() * k;
         let [ux, uz] = m.stokes_drift;
         assert!(
             (ux.hypot(uz) / speed - 1.0).abs() < 1e-6,

@@ -1,6 +1,6 @@
 //! The Phillips spectrum with the thesis's normalization and directional terms (eq. 3-11).
 
-use crate::sim::params::GRAVITY;
+use crate::sim::dispersion::GRAVITY;
 
 /// Smallest cutoff length l_min of eq. 11 (m).
 pub const CUTOFF_MIN: f64 = 0.001;

@@ -15,7 +15,7 @@
 //! With s(ω) the short waves are close to isotropic and the ratio lands near Cox & Munk's
 //! (`tests/sim/physics.rs`). The thesis's spread stays for `--spectrum phillips`.
 
-use crate::sim::params::GRAVITY;
+use crate::sim::dispersion::GRAVITY;
 
 /// The spreading of one wind sea (its wind and peak frequency).
 #[derive(Clone, Copy, Debug, PartialEq)]

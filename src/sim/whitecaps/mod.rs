@@ -353,7 +353,7 @@ fn foam_run(rows: [&[[f32; 2]]; 3], foam: &mut [f32], coverage: &mut [u8], k: Fo
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::params::OceanConfig;
+    use crate::sim::config::OceanConfig;
     use crate::sim::surface::FloatCopies;
     use half::f16;
 
