@@ -8,12 +8,13 @@ use std::process::Command;
 
 use clap::Args;
 
-use super::budget::HeadsetArg;
-use super::CmdResult;
+use super::gpu_view::HeadsetArg;
+use super::report::CmdResult;
 use vr_ocean::render::budget::adreno::{self, AdrenoPath};
+use vr_ocean::render::budget::paths::headset_pipelines;
 use vr_ocean::render::budget::HeadsetModel;
 use vr_ocean::render::render_pass::PassLayout;
-use vr_ocean::render::statistics::{headset_pipelines, PipelineStatistics};
+use vr_ocean::render::statistics::PipelineStatistics;
 use vr_ocean::render::{ContextOptions, GpuContext, Msaa, StereoMode, Validation};
 
 #[derive(Args)]

@@ -8,9 +8,9 @@ use std::time::Duration;
 
 use serde::Serialize;
 
-use super::budget::{context_options, render_view, GpuBudgetArgs, ViewRun};
+use super::gpu_view::{context_options, render_view, GpuBudgetArgs, ViewRun};
+use super::report::CmdResult;
 use super::report::ValidationWatch;
-use super::CmdResult;
 use vr_ocean::app;
 use vr_ocean::render::budget::calibration::{
     fragments_per_pixel, predict, DeviceRates, KernelKind, KernelMeasurement, Prediction,

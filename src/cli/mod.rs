@@ -7,6 +7,7 @@ pub mod adreno;
 pub mod args;
 pub mod budget;
 pub mod calibrate;
+pub mod gpu_view;
 pub mod report;
 pub mod settings;
 pub mod soak;
@@ -16,12 +17,11 @@ pub mod view;
 use clap::{Parser, Subcommand};
 
 use self::adreno::ShaderStatsArgs;
-use self::budget::GpuBudgetArgs;
+use self::gpu_view::GpuBudgetArgs;
 use self::tools::{BenchArgs, ExportArgs, LodSvgArgs, SimulateArgs};
 use self::view::{DefaultRun, HeadlessArgs, WindowArgs, XrArgs};
 
-/// What a command returns: an error is printed as one line and the process exits non-zero.
-pub type CmdResult = Result<(), Box<dyn std::error::Error>>;
+pub use self::report::CmdResult;
 
 #[derive(Parser)]
 #[command(

@@ -6,10 +6,12 @@ use std::sync::Arc;
 
 use serde::Serialize;
 
-use super::CmdResult;
 use vr_ocean::app::{FrameTimes, RunReport};
 use vr_ocean::export;
 use vr_ocean::render::{GpuContext, ValidationLog};
+
+/// What a command returns: an error is printed as one line and the process exits non-zero.
+pub type CmdResult = Result<(), Box<dyn std::error::Error>>;
 
 /// The validation log of a session's device, kept past the device's destruction.
 pub struct ValidationWatch(Option<Arc<ValidationLog>>);

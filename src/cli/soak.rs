@@ -8,8 +8,8 @@
 
 use std::time::{Duration, Instant};
 
+use super::report::CmdResult;
 use super::report::ValidationWatch;
-use super::CmdResult;
 use vr_ocean::app::scripted::{ResourceSample, ScriptedUser};
 use vr_ocean::app::{self, RunHooks, RunOptions};
 use vr_ocean::xr::openxr::OpenXr;

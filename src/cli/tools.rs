@@ -6,7 +6,7 @@ use std::time::Instant;
 use clap::Args;
 
 use super::args::{default_threads, preset, DerivativesArg, OceanArgs, PresetArg};
-use super::CmdResult;
+use super::report::CmdResult;
 use vr_ocean::base::ParamError;
 use vr_ocean::bench::{self, BenchOptions};
 use vr_ocean::export;

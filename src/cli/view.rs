@@ -5,10 +5,10 @@ use std::path::PathBuf;
 use clap::{Args, Parser, ValueEnum};
 
 use super::args::{preset, OnOff, ViewArgs};
+use super::report::CmdResult;
 use super::report::{self, ValidationWatch};
 use super::settings;
 use super::soak;
-use super::CmdResult;
 use vr_ocean::app::{self, DeckPlacement, FloatOptions, FrameTimes};
 use vr_ocean::base::ParamError;
 use vr_ocean::export;

@@ -83,7 +83,7 @@ impl ShaderPair {
         self.free(ctx);
         let pipeline = result.map(|p| p[0])?;
         if let Some(log) = capture {
-            if let Err(e) = log.record(ctx, label, pipeline) {
+            if let Err(e) = log.record(&ctx.instance, &ctx.device, label, pipeline) {
                 // SAFETY: the pipeline was just made and nothing uses it yet.
                 unsafe { d.destroy_pipeline(pipeline, None) };
                 return Err(e);

@@ -10,7 +10,7 @@ use crate::render::barrier::{self, Access, ImageBarrier};
 use crate::render::context::GpuContext;
 use crate::render::error::RenderError;
 use crate::render::memory::{create_view, Image, ImageDesc};
-use crate::render::ocean::TargetImages;
+use crate::render::ocean::frame::TargetImages;
 use crate::render::render_pass::{PassLayout, StereoMode, DENSITY_MAP_FORMAT, DEPTH_FORMAT};
 
 /// What the framebuffers are made for.

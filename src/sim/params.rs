@@ -122,11 +122,11 @@ impl std::fmt::Display for Derivatives {
     }
 }
 
-/// The derivative mode [`OceanConfig`](crate::sim::OceanConfig)'s constructors pick: central differences on the
-/// headset (Android), where the CPU is the budget (the step costs 0.76x the spectral one at
-/// N = 256 on the 128-bit SSE2 path, and the finest cascade's lost slope returns as
-/// roughness), spectral derivatives on desktops (exact, and cheap enough there). Measured in
-/// `docs/notes/fft-128bit.md`.
+/// The derivative mode [`OceanConfig`](crate::sim::OceanConfig)'s constructors pick: central
+/// differences on the headset (Android), where the CPU is the budget (the step costs 0.76x the
+/// spectral one at N = 256 on the 128-bit SSE2 path, and the finest cascade's lost slope
+/// returns as roughness), spectral derivatives on desktops (exact, and cheap enough there).
+/// Measured in `docs/notes/fft-128bit.md`.
 #[cfg(target_os = "android")]
 pub const DEFAULT_DERIVATIVES: Derivatives = Derivatives::Finite;
 /// See the Android definition above.

@@ -9,7 +9,8 @@
 //! three sources, `mad`), cat4 the special-function unit (`rcp`, `rsq`, `sqrt`, `log2`, `exp2`,
 //! `sin`, `cos`), cat5 texture, cat6 memory, cat7 barriers.
 
-use crate::render::statistics::{Executable, PipelineStatistics, WATER_PATHS};
+use crate::render::budget::paths::WATER_PATHS;
+use crate::render::statistics::{Executable, PipelineStatistics};
 
 /// What ir3 made of one shader (one pipeline executable).
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -64,7 +65,7 @@ impl ShaderStats {
 /// One water path (or the whole pipeline) as ir3 compiled it for a GPU.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct AdrenoPath {
-    /// The path (`render::statistics::WATER_PATHS`' name), or `pipeline` and `vertex` for
+    /// The path (`render::budget::paths::WATER_PATHS`' name), or `pipeline` and `vertex` for
     /// the ocean's drawn pipeline's fragment and vertex shaders.
     pub path: String,
     /// What ir3 made of it.
@@ -84,7 +85,7 @@ impl std::fmt::Display for AdrenoError {
 
 impl std::error::Error for AdrenoError {}
 
-/// The water paths of a headset's pipelines (`render::statistics::headset_pipelines`, built on
+/// The water paths of a headset's pipelines (`render::budget::paths::headset_pipelines`, built on
 /// turnip): each path's fragment shader, then the drawn ocean pipeline's fragment (`pipeline`)
 /// and vertex (`vertex`) shaders.
 pub fn water_paths(pipelines: &[PipelineStatistics]) -> Result<Vec<AdrenoPath>, AdrenoError> {

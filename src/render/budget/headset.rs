@@ -145,8 +145,8 @@ pub fn adreno_estimate(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::budget::paths::WATER_PATHS;
     use crate::render::budget::{QUEST_2, QUEST_3};
-    use crate::render::statistics::WATER_PATHS;
 
     fn paths(instructions: u32) -> Vec<AdrenoPath> {
         WATER_PATHS

@@ -17,6 +17,7 @@
 pub mod adreno;
 pub mod calibration;
 pub mod headset;
+pub mod paths;
 pub mod spirv;
 mod views;
 pub use views::{budget_views, StandardView, STRESS_VIEW, TOP_DECK, UNDER, VIEWS, WATERLINE};

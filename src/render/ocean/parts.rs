@@ -2,13 +2,14 @@
 //! after the other, all or nothing (whatever exists is destroyed when a later step fails).
 
 use super::foam_pattern::FoamPattern;
+use super::frame::{TargetImages, MAX_CASCADES};
 use super::interaction::InteractionTexture;
 use super::mesh::MeshBuffers;
 use super::probe::PathProbe;
 use super::sky_map::SkyMap;
 use super::slots::{SlotSizes, Slots};
 use super::textures::CascadeTextures;
-use super::{RendererSettings, TargetImages, MAX_CASCADES};
+use super::RendererSettings;
 use crate::lod::OceanLod;
 use crate::render::context::GpuContext;
 use crate::render::error::RenderError;

@@ -11,9 +11,10 @@
 
 use ash::vk;
 
+use super::frame::FrameInput;
 use super::mesh::MeshBuffers;
 use super::sky_map::SkyLight;
-use super::{FrameInput, RendererSettings};
+use super::RendererSettings;
 use crate::lod::{LodSettings, OceanLod};
 use crate::render::barrier::Access;
 use crate::render::camera::Globals;

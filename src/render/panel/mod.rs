@@ -12,7 +12,7 @@ mod textures;
 
 pub use canvas::PanelCanvas;
 
-use textures::{free_texture, Texture};
+use textures::{PanelTextures, TextureSets};
 
 use super::barrier::Access;
 use super::context::GpuContext;
@@ -79,10 +79,9 @@ pub struct PanelPainter {
     pipeline: vk::Pipeline,
     sampler: vk::Sampler,
     pool: vk::DescriptorPool,
-    textures: Vec<Texture>,
-    /// Textures egui freed, destroyed at the next [`PanelPainter::record`] (the caller waits
-    /// for each recording's commands before the next).
-    retired: Vec<Texture>,
+    /// The egui textures, and those egui freed (destroyed at the next
+    /// [`PanelPainter::record`]).
+    textures: PanelTextures,
     vertices: Buffer,
     indices: Buffer,
     staging: Buffer,
@@ -100,8 +99,7 @@ impl PanelPainter {
             pipeline: vk::Pipeline::null(),
             sampler: vk::Sampler::null(),
             pool: vk::DescriptorPool::null(),
-            textures: Vec::new(),
-            retired: Vec::new(),
+            textures: PanelTextures::default(),
             vertices: Buffer::null(),
             indices: Buffer::null(),
             staging: Buffer::null(),
@@ -228,9 +226,7 @@ impl PanelPainter {
             textures,
             pixels_per_point,
         } = frame;
-        for mut t in self.retired.drain(..) {
-            free_texture(ctx, self.pool, &mut t);
-        }
+        self.textures.free_retired(ctx, self.pool);
         // Every upload of this recording gets its own part of the staging buffer.
         let staged: u64 = textures
             .set
@@ -252,7 +248,14 @@ impl PanelPainter {
         }
         let mut offset = 0;
         for (id, delta) in &textures.set {
-            offset = self.upload(ctx, cmd, *id, delta, offset)?;
+            let sets = TextureSets {
+                pool: self.pool,
+                set_layout: self.set_layout,
+                sampler: self.sampler,
+            };
+            offset = self
+                .textures
+                .upload(ctx, cmd, sets, &mut self.staging, *id, delta, offset)?;
         }
         let (vertex_count, index_count) =
             primitives
@@ -317,7 +320,7 @@ impl PanelPainter {
             let egui::epaint::Primitive::Mesh(mesh) = &p.primitive else {
                 continue;
             };
-            let Some(set) = self.textures.iter().find(|t| t.id == mesh.texture_id) else {
+            let Some(set) = self.textures.get(mesh.texture_id) else {
                 continue;
             };
             let v_bytes = bytemuck::cast_slice::<egui::epaint::Vertex, u8>(&mesh.vertices);
@@ -355,9 +358,7 @@ impl PanelPainter {
         // SAFETY: the pass begun above.
         unsafe { d.cmd_end_render_pass(cmd) };
         for id in &textures.free {
-            if let Some(i) = self.textures.iter().position(|t| t.id == *id) {
-                self.retired.push(self.textures.swap_remove(i));
-            }
+            self.textures.retire(*id);
         }
         Ok(())
     }
@@ -430,15 +431,10 @@ impl PanelPainter {
         Ok(f)
     }
 
-    /// Uploads one egui texture change through the staging buffer from byte `offset`: a new
-    /// texture (or a whole replacement), or a patch of an existing one (the font atlas
-    /// growing). Returns where the next upload's bytes go.
     /// Frees everything (null handles are skipped). The GPU must be done with it.
     pub fn destroy(&mut self, ctx: &GpuContext) {
         let d = &ctx.device;
-        for mut t in self.textures.drain(..).chain(self.retired.drain(..)) {
-            free_texture(ctx, self.pool, &mut t);
-        }
+        self.textures.destroy(ctx, self.pool);
         self.vertices.destroy(ctx);
         self.indices.destroy(ctx);
         self.staging.destroy(ctx);

@@ -3,11 +3,10 @@
 
 use ash::vk;
 
-use super::PanelPainter;
 use crate::render::barrier::{self, Access, ImageBarrier};
 use crate::render::context::GpuContext;
 use crate::render::error::RenderError;
-use crate::render::memory::{Image, ImageDesc};
+use crate::render::memory::{Buffer, Image, ImageDesc};
 
 /// One egui texture on the GPU.
 pub(super) struct Texture {
@@ -16,11 +15,59 @@ pub(super) struct Texture {
     pub set: vk::DescriptorSet,
 }
 
-impl PanelPainter {
-    pub(super) fn upload(
+/// What a texture's descriptor set is made from: the painter's pool, set layout and sampler.
+#[derive(Clone, Copy)]
+pub(super) struct TextureSets {
+    pub pool: vk::DescriptorPool,
+    pub set_layout: vk::DescriptorSetLayout,
+    pub sampler: vk::Sampler,
+}
+
+/// The painter's egui textures: the live ones, and those egui freed, destroyed at the next
+/// recording (the caller waits for each recording's commands before the next).
+#[derive(Default)]
+pub(super) struct PanelTextures {
+    live: Vec<Texture>,
+    retired: Vec<Texture>,
+}
+
+impl PanelTextures {
+    /// The live texture egui calls `id`.
+    pub fn get(&self, id: egui::TextureId) -> Option<&Texture> {
+        self.live.iter().find(|t| t.id == id)
+    }
+
+    /// Retires the texture `id` (egui freed it): destroyed at the next [`Self::free_retired`].
+    pub fn retire(&mut self, id: egui::TextureId) {
+        if let Some(i) = self.live.iter().position(|t| t.id == id) {
+            self.retired.push(self.live.swap_remove(i));
+        }
+    }
+
+    /// Destroys the retired textures (the GPU is done with them).
+    pub fn free_retired(&mut self, ctx: &GpuContext, pool: vk::DescriptorPool) {
+        for mut t in self.retired.drain(..) {
+            free_texture(ctx, pool, &mut t);
+        }
+    }
+
+    /// Destroys every texture, live and retired (the GPU is done with them).
+    pub fn destroy(&mut self, ctx: &GpuContext, pool: vk::DescriptorPool) {
+        for mut t in self.live.drain(..).chain(self.retired.drain(..)) {
+            free_texture(ctx, pool, &mut t);
+        }
+    }
+
+    /// Uploads one egui texture change through `staging` from byte `offset`: a new texture (or
+    /// a whole replacement), or a patch of an existing one (the font atlas growing). Returns
+    /// where the next upload's bytes go.
+    #[allow(clippy::too_many_arguments)]
+    pub fn upload(
         &mut self,
         ctx: &GpuContext,
         cmd: vk::CommandBuffer,
+        sets: TextureSets,
+        staging: &mut Buffer,
         id: egui::TextureId,
         delta: &egui::epaint::ImageDelta,
         offset: u64,
@@ -33,20 +80,18 @@ impl PanelPainter {
         };
         let whole = delta.pos.is_none();
         if whole {
-            if let Some(i) = self.textures.iter().position(|t| t.id == id) {
-                self.retired.push(self.textures.swap_remove(i));
-            }
-            let texture = self.new_texture(ctx, id, extent)?;
-            self.textures.push(texture);
+            self.retire(id);
+            let texture = new_texture(ctx, sets, id, extent)?;
+            self.live.push(texture);
         }
-        let Some(texture) = self.textures.iter().find(|t| t.id == id) else {
+        let Some(texture) = self.get(id) else {
             return Err(RenderError::Invalid(format!(
                 "egui patched texture {id:?} before creating it"
             )));
         };
         let bytes = bytemuck::cast_slice::<egui::Color32, u8>(&image.pixels);
         let at = offset as usize;
-        self.staging.bytes_mut()[at..at + bytes.len()].copy_from_slice(bytes);
+        staging.bytes_mut()[at..at + bytes.len()].copy_from_slice(bytes);
         let [x, y] = delta.pos.unwrap_or([0, 0]);
         let from = if whole {
             Access::Nothing
@@ -90,7 +135,7 @@ impl PanelPainter {
         unsafe {
             ctx.device.cmd_copy_buffer_to_image(
                 cmd,
-                self.staging.raw,
+                staging.raw,
                 texture.image.raw,
                 vk::ImageLayout::TRANSFER_DST_OPTIMAL,
                 &[region],
@@ -109,55 +154,56 @@ impl PanelPainter {
         );
         Ok(offset + bytes.len() as u64)
     }
-
-    fn new_texture(
-        &mut self,
-        ctx: &GpuContext,
-        id: egui::TextureId,
-        extent: vk::Extent2D,
-    ) -> Result<Texture, RenderError> {
-        let mut image = Image::new(
-            ctx,
-            ImageDesc {
-                format: vk::Format::R8G8B8A8_UNORM,
-                extent,
-                layers: 1,
-                mips: 1,
-                samples: vk::SampleCountFlags::TYPE_1,
-                usage: vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
-                aspect: vk::ImageAspectFlags::COLOR,
-                transient: false,
-            },
-        )?;
-        let layouts = [self.set_layout];
-        let info = vk::DescriptorSetAllocateInfo::default()
-            .descriptor_pool(self.pool)
-            .set_layouts(&layouts);
-        // SAFETY: the pool and the layout are alive.
-        let set = match unsafe { ctx.device.allocate_descriptor_sets(&info) } {
-            Ok(s) => s[0],
-            Err(e) => {
-                image.destroy(ctx);
-                return Err(RenderError::vk("vkAllocateDescriptorSets")(e));
-            }
-        };
-        let image_info = [vk::DescriptorImageInfo {
-            sampler: self.sampler,
-            image_view: image.view,
-            image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-        }];
-        let write = [vk::WriteDescriptorSet::default()
-            .dst_set(set)
-            .dst_binding(0)
-            .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
-            .image_info(&image_info)];
-        // SAFETY: the set, sampler and view are alive; the set is not in use.
-        unsafe { ctx.device.update_descriptor_sets(&write, &[]) };
-        Ok(Texture { id, image, set })
-    }
 }
 
-pub(super) fn free_texture(ctx: &GpuContext, pool: vk::DescriptorPool, t: &mut Texture) {
+/// A texture of `extent` for egui's `id`, with its descriptor set from `sets`.
+fn new_texture(
+    ctx: &GpuContext,
+    sets: TextureSets,
+    id: egui::TextureId,
+    extent: vk::Extent2D,
+) -> Result<Texture, RenderError> {
+    let mut image = Image::new(
+        ctx,
+        ImageDesc {
+            format: vk::Format::R8G8B8A8_UNORM,
+            extent,
+            layers: 1,
+            mips: 1,
+            samples: vk::SampleCountFlags::TYPE_1,
+            usage: vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
+            aspect: vk::ImageAspectFlags::COLOR,
+            transient: false,
+        },
+    )?;
+    let layouts = [sets.set_layout];
+    let info = vk::DescriptorSetAllocateInfo::default()
+        .descriptor_pool(sets.pool)
+        .set_layouts(&layouts);
+    // SAFETY: the pool and the layout are alive.
+    let set = match unsafe { ctx.device.allocate_descriptor_sets(&info) } {
+        Ok(s) => s[0],
+        Err(e) => {
+            image.destroy(ctx);
+            return Err(RenderError::vk("vkAllocateDescriptorSets")(e));
+        }
+    };
+    let image_info = [vk::DescriptorImageInfo {
+        sampler: sets.sampler,
+        image_view: image.view,
+        image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+    }];
+    let write = [vk::WriteDescriptorSet::default()
+        .dst_set(set)
+        .dst_binding(0)
+        .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+        .image_info(&image_info)];
+    // SAFETY: the set, sampler and view are alive; the set is not in use.
+    unsafe { ctx.device.update_descriptor_sets(&write, &[]) };
+    Ok(Texture { id, image, set })
+}
+
+fn free_texture(ctx: &GpuContext, pool: vk::DescriptorPool, t: &mut Texture) {
     // SAFETY: the GPU is done with the texture (the painter's contract); the set came from
     // `pool`, which allows freeing sets.
     unsafe {
