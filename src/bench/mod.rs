@@ -8,9 +8,9 @@ mod rustfft_2d;
 
 use std::time::{Duration, Instant};
 
+use crate::sim::config::OceanConfig;
 use crate::sim::fft::{force_backend, forced_backend, Backend, Fft2d, UnavailableBackend};
 use crate::sim::grid::{GridSize, SplitField};
-use crate::sim::config::OceanConfig;
 use crate::sim::params::Derivatives;
 use crate::sim::simd::{cap_tier, tier_cap};
 use crate::sim::step::{SimCore, SimError, Surfaces};

@@ -62,13 +62,13 @@ mod world;
 use glam::{Mat4, Quat, Vec3};
 
 pub use body::BodySpec;
-pub use kind::BodyKind;
 pub use clock::{FixedClock, Ticks};
 pub use error::PhysicsError;
 pub use hands::{Hand, HandCommand, HandEvent, HandInput, HandState};
 pub use impacts::Impact;
-pub use spawn::BodyCount;
+pub use kind::BodyKind;
 pub use slot::{BodyId, BodyState};
+pub use spawn::BodyCount;
 pub use world::{BodyInstance, Energy, Floaters};
 
 /// Fixed physics rate (Hz): a Quest's 90 Hz display, so at 90 Hz every frame gets one step.

@@ -6,8 +6,8 @@
 use glam::{Quat, Vec3};
 
 use crate::physics::error::{self, PhysicsError};
-use crate::physics::spawn::default_body;
 use crate::physics::slot::BodyId;
+use crate::physics::spawn::default_body;
 use crate::physics::world::Floaters;
 use crate::physics::Pose;
 

@@ -61,4 +61,3 @@ pub(crate) struct Slot {
     /// The speed its motor holds along its bow (m/s), for a launched boat.
     pub(crate) motor: Option<f32>,
 }
-

@@ -3,8 +3,8 @@
 use glam::{Quat, Vec2, Vec3};
 
 use crate::physics::body::BodySpec;
-use crate::physics::kind::BodyKind;
 use crate::physics::error::PhysicsError;
+use crate::physics::kind::BodyKind;
 use crate::physics::slot::{BodyId, BodyState};
 use crate::physics::world::Floaters;
 use crate::physics::{Pose, MAX_BODIES};

@@ -9,13 +9,13 @@ use rapier3d::prelude::{
 };
 
 use crate::physics::body::{BodySpec, Hull, FRICTION, MAX_COLUMNS};
-use crate::physics::kind::BodyKind;
 use crate::physics::buoyancy::{self, Motion, Water, ADDED_MASS_COEFFICIENT};
 use crate::physics::clock::{FixedClock, Ticks};
 use crate::physics::convert::{from_rapier, pose_from_rapier, pose_to_rapier, to_rapier};
 use crate::physics::error::PhysicsError;
-use crate::physics::impacts::{Impact, Impacts};
 use crate::physics::hands::{drive_to, HandInput};
+use crate::physics::impacts::{Impact, Impacts};
+use crate::physics::kind::BodyKind;
 use crate::physics::slot::{BodyId, BodyState, Slot};
 use crate::physics::wakes::Wakes;
 use crate::physics::water::{key, WaterSamples};

@@ -190,10 +190,12 @@ impl CascadeSim {
 
     /// Moves this cascade to the grid of `spec` (see [`Tuning::switch_grid`]).
     pub(crate) fn switch_grid(&mut self, spec: CascadeSpec) {
-        if self
-            .tuning
-            .switch_grid(&self.spec, &spec, &mut self.foam, &mut self.spectrum.harmonic)
-        {
+        if self.tuning.switch_grid(
+            &self.spec,
+            &spec,
+            &mut self.foam,
+            &mut self.spectrum.harmonic,
+        ) {
             self.spec = spec;
         }
     }

@@ -35,9 +35,9 @@
 
 pub mod awake;
 mod cascade;
+pub mod config;
 pub mod detail;
 pub mod dispersion;
-pub mod config;
 pub mod drift;
 pub mod evolve;
 pub mod fft;
@@ -51,18 +51,18 @@ pub mod retune;
 pub mod simd;
 pub mod spectrum;
 pub mod step;
-mod tuning;
 pub mod surface;
 pub mod trig;
+mod tuning;
 pub mod whitecaps;
 pub mod workers;
 
-pub use grid::{AlignedBuf, GridSize, SplitField, Support};
+pub use cascade::StageTimes;
 pub use config::{OceanConfig, PatchFit, DEFAULT_PATCH_SIZES};
 pub use dispersion::GRAVITY;
+pub use grid::{AlignedBuf, GridSize, SplitField, Support};
 pub use params::{
     Derivatives, FoamParams, SpectrumKind, WaveParams, DEFAULT_DERIVATIVES, DEFAULT_FETCH_KM,
     DEFAULT_GAMMA,
 };
-pub use cascade::StageTimes;
 pub use step::{SimCore, SimError, Simulation, Surfaces};

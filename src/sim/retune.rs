@@ -18,8 +18,8 @@ use crate::sim::cascade::CascadeSim;
 use crate::sim::grid::Support;
 use crate::sim::params::WaveParams;
 use crate::sim::spectrum::modes::{self, Moments, TAIL_RINGS};
-use crate::sim::tuning::moments;
 use crate::sim::spectrum::{CascadeSpec, SpectrumModel};
+use crate::sim::tuning::moments;
 
 /// Steps a new state's spectrum is built over (a slice of rows, and of the tail's rings,
 /// per step).
@@ -291,7 +291,6 @@ fn run_spec(current: &CascadeSpec, target: &CascadeSpec) -> CascadeSpec {
         *target
     }
 }
-
 
 #[cfg(test)]
 mod tests {

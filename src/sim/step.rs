@@ -6,10 +6,10 @@ use std::time::{Duration, Instant};
 
 use crate::base::ParamError;
 use crate::sim::cascade::{CascadeSim, StageTimes, StepAt};
+use crate::sim::config::{OceanConfig, PatchFit};
 use crate::sim::evolve::LoopPhase;
 use crate::sim::fft::Fft2d;
 use crate::sim::grid::{GridSize, SplitField};
-use crate::sim::config::{OceanConfig, PatchFit};
 use crate::sim::params::WaveParams;
 use crate::sim::retune::Retune;
 use crate::sim::spectrum::PackedSpectrum;

@@ -111,7 +111,6 @@ pub(crate) fn moments(
     }
 }
 
-
 impl Tuning {
     /// Packs the blend at weight `w` into `spectrum` (the one the evolution reads); returns the
     /// patch whose waves it shows.
@@ -121,7 +120,13 @@ impl Tuning {
             to: &self.to,
             weight: w,
         };
-        modes::pack(&self.lattice, mix, &self.support, &mut self.h0, &mut spectrum.s);
+        modes::pack(
+            &self.lattice,
+            mix,
+            &self.support,
+            &mut self.h0,
+            &mut spectrum.s,
+        );
         spectrum.support = self.support.clone();
         let m = self.from_moments.lerp(self.to_moments, w as f64);
         spectrum.expected_variance = m.variance;

@@ -213,7 +213,10 @@ fn parse(module: ModPath, text: &str) -> (Parsed, Vec<ModPath>) {
         }
         let use_at = words.iter().position(|w| *w == "use");
         if let Some(at) = use_at {
-            if words[..at].iter().all(|w| w.starts_with("pub") || w.starts_with("#[")) {
+            if words[..at]
+                .iter()
+                .all(|w| w.starts_with("pub") || w.starts_with("#["))
+            {
                 let reexport = words[..at].iter().any(|w| w.starts_with("pub"));
                 let start = code.find("use ").unwrap() + 4;
                 let acc = code[start..].to_string();
@@ -540,6 +543,11 @@ fn the_loop_finder_sees_a_loop() {
     assert!(tested.is_empty(), "{tested:?}");
     assert_eq!(
         expand_tree("a::{b, c::{d, self}, e as f}"),
-        [vec!["a", "b"], vec!["a", "c", "d"], vec!["a", "c"], vec!["a", "e"]]
+        [
+            vec!["a", "b"],
+            vec!["a", "c", "d"],
+            vec!["a", "c"],
+            vec!["a", "e"]
+        ]
     );
 }

@@ -20,7 +20,6 @@ use super::butterfly::{bfly4, bfly8, cmul, load_row, quarters, store_row, tw4, S
 use super::first_stage::{first_stage, Source};
 use super::plan::{CRow, Plan, Stage, L1_ROWS, STRIP};
 
-
 /// One pass's worth of work: some strips of one field. Chunk k of `dst_*` (each chunk
 /// `STRIP·N` floats) receives strip `first_strip + k` of the source, transformed and transposed.
 ///
@@ -224,7 +223,6 @@ fn stage<S: Simd>(s: S, plan: &Plan, st: Stage, rows: &mut [CRow]) {
         }
     }
 }
-
 
 /// Writes the strip transposed: output k of strip column c goes to `dst_at(c, k)`, read from
 /// working row `perm[k]`.

@@ -36,8 +36,8 @@ mod mips;
 mod row;
 
 use self::f16_row::interleave_f16;
-pub use self::layout::{CascadeSurface, FloatCopies};
 use self::layout::{mip_block, planes_mut};
+pub use self::layout::{CascadeSurface, FloatCopies};
 use self::mips::{build_mips, mip_planes};
 use self::row::{
     pad_row, plane_row, surface_row, Finite, RowIn, RowOut, RowSource, Spectral, SurfaceConsts,

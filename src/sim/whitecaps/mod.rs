@@ -47,8 +47,8 @@ mod sampling;
 
 use rayon::prelude::*;
 
-pub use sampling::{WHITECAP_LEVELS, WHITECAP_SPACING, WHITECAP_TEXELS};
 use sampling::{add_cascade, mip_for, DisplacementMips, Lattice};
+pub use sampling::{WHITECAP_LEVELS, WHITECAP_SPACING, WHITECAP_TEXELS};
 
 use crate::sim::grid::GridSize;
 use crate::sim::params::FoamParams;

@@ -44,8 +44,8 @@ use std::time::{Duration, Instant};
 use ash::vk;
 use openxr as xr;
 
-use self::error::{backend, Call};
 pub use self::error::CallError;
+use self::error::{backend, Call};
 pub use self::exit_signal::{install_exit_signal_handler, EXIT_SIGNAL};
 use self::lifecycle::{Action, Lifecycle};
 use self::quest::{Foveation, Headset, PerfLevel};
@@ -121,7 +121,6 @@ pub enum FramePoll {
     /// The session is over (the runtime went through EXITING).
     Done,
 }
-
 
 /// The frame in progress between [`FrameLoop::begin_frame`] and [`FrameLoop::end_frame`].
 #[derive(Clone, Copy)]

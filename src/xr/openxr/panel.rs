@@ -10,9 +10,9 @@ use ash::vk::Handle as _;
 use glam::{Quat, Vec3};
 use openxr as xr;
 
+use super::error::backend;
 use super::error::Call;
 use super::panel_aim::{AimFrame, AimPointer, HandAim, PanelQuad};
-use super::error::backend;
 use super::session::LOCAL_EYE_HEIGHT;
 use super::OpenXr;
 use crate::render::barrier::Access;

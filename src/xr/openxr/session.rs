@@ -6,11 +6,11 @@
 use ash::vk;
 use openxr as xr;
 
+use super::error::backend;
 use super::error::Call;
 use super::foveation;
 use super::input::Input;
 use super::swapchain::{self, ArraySwapchain};
-use super::error::backend;
 use crate::render::GpuContext;
 use crate::xr::XrError;
 

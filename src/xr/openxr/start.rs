@@ -7,6 +7,7 @@ use ash::vk;
 use glam::Vec3;
 use openxr as xr;
 
+use super::error::backend;
 use super::error::{Call, CallError};
 use super::foveation::FoveationSupport;
 use super::lifecycle::Lifecycle;
@@ -14,7 +15,6 @@ use super::quest::{Foveation, Headset};
 use super::quest_setup::{self, QuestSettings};
 use super::session::{Session, SessionSettings};
 use super::stats::{FrameStats, Summary};
-use super::error::backend;
 use super::{frame, instance, panel, swapchain, threads, vulkan, OpenXr, OpenXrOptions};
 use crate::render::{ContextOptions, GpuContext};
 use crate::xr::locomotion::{Locomotion, LocomotionSettings};
