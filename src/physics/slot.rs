@@ -8,8 +8,8 @@ use rapier3d::prelude::RigidBodyHandle;
 use crate::physics::body::{BodySpec, Hull};
 use crate::physics::Pose;
 
-/// A body of a [`Floaters`] world: its slot, stable while it lives (a sunk body's slot may be
-/// reused by [`Floaters::throw_from`]).
+/// A body of a [`Floaters`](crate::physics::Floaters) world: its slot, stable while it lives (a sunk body's slot may be
+/// reused by [`Floaters::throw_from`](crate::physics::Floaters::throw_from)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct BodyId(pub(crate) usize);
 
@@ -25,7 +25,7 @@ impl BodyId {
 pub enum BodyState {
     /// Free: gravity, water and contacts move it.
     Floating,
-    /// Following a hand ([`Floaters::grab`]).
+    /// Following a hand ([`Floaters::grab`](crate::physics::Floaters::grab)).
     Held,
     /// Sank below the floor: out of the simulation, not drawn.
     Sunk,
@@ -56,7 +56,7 @@ pub(crate) struct Slot {
     pub(crate) submerged: f32,
     /// Where this step's samples of this body start.
     pub(crate) first_sample: usize,
-    /// When it was last thrown ([`Floaters::throw_from`] reuses the oldest).
+    /// When it was last thrown ([`Floaters::throw_from`](crate::physics::Floaters::throw_from) reuses the oldest).
     pub(crate) thrown: u64,
     /// The speed its motor holds along its bow (m/s), for a launched boat.
     pub(crate) motor: Option<f32>,
