@@ -3,6 +3,8 @@
 
 use clap::{Args, ValueEnum};
 
+use super::given::Given;
+
 use vr_ocean::app::{self as app, GovernorOptions, GpuFault, RunOptions, SoundOptions, SoundSink};
 use vr_ocean::base::ParamError;
 use vr_ocean::lod::{LodSettings, OceanSize, QualityPreset};
@@ -192,6 +194,10 @@ impl OceanArgs {
 pub struct ViewArgs {
     #[command(flatten)]
     pub ocean: OceanArgs,
+    /// Which of this command's flags the command line gave ([`Given`]); filled in by
+    /// [`super::parse`].
+    #[arg(skip)]
+    pub given: Given,
     /// Quality preset (thesis Table 2).
     #[arg(long, value_enum, default_value_t = PresetArg::High)]
     pub preset: PresetArg,

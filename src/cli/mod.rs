@@ -7,6 +7,7 @@ pub mod adreno;
 pub mod args;
 pub mod budget;
 pub mod calibrate;
+pub mod given;
 pub mod gpu_view;
 pub mod report;
 pub mod settings;
@@ -14,7 +15,7 @@ pub mod soak;
 pub mod tools;
 pub mod view;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 use self::adreno::ShaderStatsArgs;
 use self::gpu_view::GpuBudgetArgs;
@@ -60,6 +61,32 @@ pub enum Command {
     ShaderStats(ShaderStatsArgs),
     /// Draw one frame of the quadtree LOD (patches by level, stitched edges, both eye frusta) as SVG.
     LodSvg(LodSvgArgs),
+}
+
+/// Parses the command line (exiting with clap's message on bad input, or after `--help`),
+/// recording in each view command which of its flags were given ([`given::Given`]).
+pub fn parse() -> Cli {
+    parse_from(std::env::args_os())
+}
+
+/// [`parse`] from `args` (the program name first).
+pub fn parse_from<I, T>(args: I) -> Cli
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let matches = Cli::command().get_matches_from(args);
+    let mut cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    if let (Some(command), Some((_, sub))) = (cli.command.as_mut(), matches.subcommand()) {
+        let given = given::Given::of(sub);
+        match command {
+            Command::Window(a) => a.view.given = given,
+            Command::Headless(a) => a.view.given = given,
+            Command::Xr(a) => a.view.given = given,
+            _ => {}
+        }
+    }
+    cli
 }
 
 /// Runs the command (the window, or headless without a display, when none is given).

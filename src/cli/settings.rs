@@ -9,14 +9,6 @@ use vr_ocean::ui::{Settings, SettingsFile};
 
 use super::args::{OnOff, PresetArg, ViewArgs};
 
-/// Whether `flag` (`--wind`) was given on the command line (as `--wind V` or `--wind=V`).
-fn given(flag: &str) -> bool {
-    let with_value = format!("{flag}=");
-    std::env::args()
-        .skip(1)
-        .any(|a| a == flag || a.starts_with(&with_value))
-}
-
 /// The settings file for this run, after `--reset-settings`; `None` when there is nowhere to
 /// keep it (no `$HOME`), said once.
 pub fn open(view: &ViewArgs) -> Result<Option<SettingsFile>, Box<dyn std::error::Error>> {
@@ -39,16 +31,16 @@ pub fn apply_saved(file: &SettingsFile, view: &mut ViewArgs) -> Settings {
         log::warn!("settings: {w}");
     }
     let s = loaded.settings;
-    if !given("--wind") {
+    if !view.given.has("wind") {
         view.ocean.wind = s.wind_speed;
     }
-    if !given("--wind-dir") {
+    if !view.given.has("wind_dir") {
         view.ocean.wind_dir = s.wind_direction_deg;
     }
-    if !given("--choppiness") {
+    if !view.given.has("choppiness") {
         view.ocean.choppiness = s.choppiness;
     }
-    if !given("--preset") {
+    if !view.given.has("preset") {
         if let Some(p) = s.quality_preset() {
             view.preset = PresetArg::from(p);
         }
@@ -56,7 +48,7 @@ pub fn apply_saved(file: &SettingsFile, view: &mut ViewArgs) -> Settings {
     view.sun_elevation = view.sun_elevation.or(s.sun_elevation_deg);
     view.sun_azimuth = view.sun_azimuth.or(s.sun_azimuth_deg);
     view.clouds = view.clouds.or(s.clouds);
-    if !given("--volume") {
+    if !view.given.has("volume") {
         view.volume = s.volume;
     }
     // Kept off stays off; kept on leaves each command's own default (the window plays it, the
@@ -74,11 +66,6 @@ pub fn apply_saved(file: &SettingsFile, view: &mut ViewArgs) -> Settings {
         );
     }
     s
-}
-
-/// Whether `--deck-height` was given.
-pub fn deck_height_given() -> bool {
-    given("--deck-height")
 }
 
 /// The hooks that keep the run's choices in `file` (none: nothing kept), with the sound as

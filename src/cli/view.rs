@@ -387,7 +387,7 @@ pub fn xr_cmd(mut a: XrArgs) -> CmdResult {
         .as_ref()
         .map(|file| settings::apply_saved(file, &mut a.view));
     if let Some(h) = saved.as_ref().and_then(|s| s.deck_height_m) {
-        if !settings::deck_height_given() {
+        if !a.view.given.has("deck_height") {
             a.deck_height = h;
         }
     }
