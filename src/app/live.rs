@@ -7,7 +7,7 @@ use std::time::Duration;
 
 use crate::lod::QualityPreset;
 use crate::render::sky::SunSky;
-use crate::sim::{Simulation, WaveParams};
+use crate::sim::{SeaState, Simulation, WaveParams};
 use crate::ui::panel::Comfort;
 use crate::ui::{Beaufort, Settings};
 use crate::xr::gpu_governor::QualityStep;
@@ -86,7 +86,7 @@ pub fn apply_wave_tweak(sim: &mut Simulation, tweak: Tweak) {
         | Tweak::LaunchBoat(_)
         | Tweak::Sun { .. } => return,
     };
-    match sim.set_waves(waves) {
+    match SeaState::new(waves).and_then(|sea| sim.set_waves(sea)) {
         Ok(()) => log::info!(
             "{what}: wind {:.1} m/s from {:.0} deg, choppiness {:.2}",
             waves.wind_speed,

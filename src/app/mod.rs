@@ -389,7 +389,7 @@ impl<'a> Frames<'a> {
     fn chosen(&self) -> live::Chosen {
         let (waves, sun) = self.panel.as_ref().map_or((None, None), |p| p.pending());
         live::Chosen {
-            waves: waves.unwrap_or(self.sim.config().waves),
+            waves: waves.map_or(self.sim.config().waves, |s| *s.waves()),
             preset: self
                 .governed
                 .as_ref()

@@ -14,7 +14,7 @@
 
 use super::{AppError, Frames};
 use crate::render::sky::SunSky;
-use crate::sim::WaveParams;
+use crate::sim::SeaState;
 use crate::ui::panel::{Comfort, Panel, PanelModel, PanelUpdate, Perf};
 use crate::xr::{FrameLoop, FrameState};
 
@@ -32,7 +32,7 @@ pub(super) struct PanelHost {
     perf: Perf,
     perf_at: f64,
     /// Waves, sky and deck height the user set that wait for [`APPLY_EVERY`].
-    waves: Option<WaveParams>,
+    waves: Option<SeaState>,
     sun: Option<SunSky>,
     deck: Option<f32>,
     /// When waves, sky or deck were last applied (display time, s).
@@ -68,7 +68,7 @@ impl PanelHost {
     }
 
     /// The waves and sky the user set that were not applied yet.
-    pub fn pending(&self) -> (Option<WaveParams>, Option<SunSky>) {
+    pub fn pending(&self) -> (Option<SeaState>, Option<SunSky>) {
         (self.waves, self.sun)
     }
 }
@@ -113,8 +113,9 @@ impl Frames<'_> {
         let waiting = host.waves.is_some() || host.sun.is_some() || host.deck.is_some();
         if now - host.applied_at >= APPLY_EVERY && waiting {
             host.applied_at = now;
-            if let Some(waves) = host.waves.take() {
-                match self.sim.set_waves(waves) {
+            if let Some(sea) = host.waves.take() {
+                let waves = sea.waves();
+                match self.sim.set_waves(sea) {
                     Ok(()) => log::info!(
                         "panel: wind {:.1} m/s toward {:.0}°",
                         waves.wind_speed,
@@ -155,7 +156,7 @@ impl Frames<'_> {
     /// comfort options, whether the user is `in_water`, and the performance line as last
     /// taken.
     fn panel_model(&self, host: &PanelHost, in_water: bool) -> PanelModel {
-        let waves = host.waves.unwrap_or(self.sim.config().waves);
+        let waves = host.waves.map_or(self.sim.config().waves, |s| *s.waves());
         let sun = host.sun.unwrap_or(self.renderer.settings().sun);
         PanelModel {
             wind_speed: waves.wind_speed,
@@ -179,10 +180,13 @@ impl Frames<'_> {
     /// logged and dropped (the panel's ranges keep them in range).
     fn take_edits(&mut self, host: &mut PanelHost, live: &PanelModel, m: &PanelModel) {
         if (m.wind_speed, m.wind_direction_deg) != (live.wind_speed, live.wind_direction_deg) {
-            let mut waves = host.waves.unwrap_or(self.sim.config().waves);
+            let mut waves = host.waves.map_or(self.sim.config().waves, |s| *s.waves());
             waves.wind_speed = m.wind_speed;
             waves.wind_direction_deg = m.wind_direction_deg.rem_euclid(360.0);
-            host.waves = Some(waves);
+            match SeaState::new(waves) {
+                Ok(sea) => host.waves = Some(sea),
+                Err(e) => log::warn!("panel: wind change refused: {e}"),
+            }
         }
         let sky = |p: &PanelModel| (p.sun_elevation_deg, p.sun_azimuth_deg, p.clouds);
         if sky(m) != sky(live) {

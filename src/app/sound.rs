@@ -304,7 +304,8 @@ mod wind_tests {
             wind_direction_deg: before.wind_direction_deg + 90.0,
             ..before
         };
-        sim.set_waves(after).unwrap();
+        sim.set_waves(crate::sim::SeaState::new(after).unwrap())
+            .unwrap();
         let (mut mid_speed, mut mid_dir) = (None, None);
         let mut t = 0.0;
         for _ in 0..(12.0 / dt) as usize {

@@ -12,8 +12,8 @@
 //! - [`commands`]: command pools, buffers and fences.
 //! - [`memory`]: buffers and images with their own memory.
 //! - [`barrier`]: pipeline barriers written as named access states (`from` → `to`).
-//! - [`pipeline`]: the stereo render pass and the ocean and sky pipelines.
-//! - `program`: the shader pair and pipeline layout every pipeline is made with.
+//! - [`render_pass`]: the stereo render pass (multiview or two passes, MSAA, density map).
+//! - `program`: every pipeline's description and its one builder, the shader pair and layout.
 //! - [`panel`]: the control panel's painter (egui's triangles into the panel's image).
 //! - [`camera`]: reversed-Z projections and the uniform block.
 //! - [`ocean`]: the per-frame renderer.
@@ -39,7 +39,6 @@ pub mod error;
 pub mod memory;
 pub mod ocean;
 pub mod panel;
-pub mod pipeline;
 pub(crate) mod program;
 pub mod readback;
 pub mod render_pass;
@@ -57,7 +56,7 @@ pub use context::{
 };
 pub use error::RenderError;
 pub use ocean::{FrameInput, FrameReport, OceanRenderer, RendererSettings, TargetImages};
-pub use pipeline::{Msaa, StereoMode, DEPTH_FORMAT};
+pub use render_pass::{Msaa, StereoMode, DEPTH_FORMAT};
 
 use ash::vk;
 

@@ -1,7 +1,8 @@
-//! What every graphics pipeline is made with: a vertex and a fragment module, alive only until
-//! the pipeline exists ([`ShaderPair`]), and a layout of one descriptor set and one push-constant
-//! range ([`pipeline_layout`]). The ocean's and solids' pipelines (`pipeline`) and the panel's
-//! (`panel`) describe their fixed-function state themselves.
+//! What every graphics pipeline is made with: its description ([`Program`]: shaders, vertex
+//! input, culling, blending, depth) built once by [`build`], a vertex and a fragment module
+//! alive only until the pipeline exists ([`ShaderPair`]), and a layout of one descriptor set
+//! and one push-constant range ([`pipeline_layout`]). The ocean's pipelines
+//! (`ocean/pipelines.rs`), the panel's and the calibration kernels' are `Program`s.
 
 use std::ffi::CStr;
 
@@ -9,6 +10,7 @@ use ash::vk;
 
 use super::context::GpuContext;
 use super::error::RenderError;
+use super::render_pass::Msaa;
 
 /// The entry point of every module.
 const MAIN: &CStr = c"main";
@@ -123,4 +125,135 @@ pub(crate) fn pipeline_layout(
     ctx.create("vkCreatePipelineLayout", || unsafe {
         ctx.device.create_pipeline_layout(&info, None)
     })
+}
+
+/// What a pipeline is built against: its layout, render pass and samples per pixel.
+#[derive(Clone, Copy)]
+pub(crate) struct Target {
+    /// The pipeline layout.
+    pub layout: vk::PipelineLayout,
+    /// The render pass.
+    pub render_pass: vk::RenderPass,
+    /// Its samples per pixel.
+    pub msaa: Msaa,
+}
+
+/// One graphics pipeline's description: its shaders, vertex input, culling, blending and
+/// depth, and the name its compiler statistics are filed under. Every pipeline the renderer
+/// makes (the ocean's, the solids', the vignette's, the panel's, the calibration kernels') is
+/// one of these built by [`build`].
+pub(crate) struct Program {
+    /// What the pipeline draws (`GpuContext::pipeline_statistics`' label).
+    pub label: &'static str,
+    /// The vertex shader.
+    pub vert: &'static [u32],
+    /// The fragment shader.
+    pub frag: &'static [u32],
+    /// The vertex buffers' bindings (none: vertices from `gl_VertexIndex`).
+    pub bindings: Vec<vk::VertexInputBindingDescription>,
+    /// Their attributes.
+    pub attributes: Vec<vk::VertexInputAttributeDescription>,
+    /// Faces culled.
+    pub cull: vk::CullModeFlags,
+    /// How its colour meets the target's.
+    pub blend: Blend,
+    /// Whether it tests and writes depth.
+    pub depth: Depth,
+}
+
+/// How a pipeline's colour meets what the target holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Blend {
+    /// Written as is (the ocean, the solids).
+    Opaque,
+    /// Blended by its alpha, the target's alpha kept (the comfort vignette over the frame).
+    Over,
+    /// Premultiplied alpha (egui's panel).
+    Premultiplied,
+}
+
+/// Whether a pipeline tests and writes depth.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Depth {
+    /// Tested `GREATER` (reversed Z) and written.
+    ReversedZ,
+    /// Neither tested nor written (an overlay, or a pass without depth).
+    Ignored,
+}
+
+/// Creates `program`'s pipeline against `target`: triangle lists, filled, counter-clockwise
+/// front faces, its culling, blending and depth, viewport and scissor dynamic.
+pub(crate) fn build(
+    ctx: &GpuContext,
+    program: &Program,
+    target: Target,
+) -> Result<vk::Pipeline, RenderError> {
+    let Target {
+        layout,
+        render_pass,
+        msaa,
+    } = target;
+    let shaders = ShaderPair::new(ctx, program.vert, program.frag)?;
+    let stages = shaders.stages();
+    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+        .vertex_binding_descriptions(&program.bindings)
+        .vertex_attribute_descriptions(&program.attributes);
+    let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+        .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+    let viewport = vk::PipelineViewportStateCreateInfo::default()
+        .viewport_count(1)
+        .scissor_count(1);
+    let raster = vk::PipelineRasterizationStateCreateInfo::default()
+        .polygon_mode(vk::PolygonMode::FILL)
+        .cull_mode(program.cull)
+        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+        .line_width(1.0);
+    let multisample =
+        vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(msaa.flag());
+    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+        .depth_test_enable(program.depth == Depth::ReversedZ)
+        .depth_write_enable(program.depth == Depth::ReversedZ)
+        .depth_compare_op(vk::CompareOp::GREATER);
+    let blended = |src_colour, src_alpha, dst_alpha| {
+        vk::PipelineColorBlendAttachmentState::default()
+            .blend_enable(true)
+            .src_color_blend_factor(src_colour)
+            .dst_color_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
+            .color_blend_op(vk::BlendOp::ADD)
+            .src_alpha_blend_factor(src_alpha)
+            .dst_alpha_blend_factor(dst_alpha)
+            .alpha_blend_op(vk::BlendOp::ADD)
+            .color_write_mask(vk::ColorComponentFlags::RGBA)
+    };
+    let blend_attachment = [match program.blend {
+        Blend::Opaque => vk::PipelineColorBlendAttachmentState::default()
+            .color_write_mask(vk::ColorComponentFlags::RGBA),
+        Blend::Over => blended(
+            vk::BlendFactor::SRC_ALPHA,
+            vk::BlendFactor::ZERO,
+            vk::BlendFactor::ONE,
+        ),
+        Blend::Premultiplied => blended(
+            vk::BlendFactor::ONE,
+            vk::BlendFactor::ONE,
+            vk::BlendFactor::ONE_MINUS_SRC_ALPHA,
+        ),
+    }];
+    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachment);
+    let dynamic = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+    let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic);
+    let info = vk::GraphicsPipelineCreateInfo::default()
+        .stages(&stages)
+        .vertex_input_state(&vertex_input)
+        .input_assembly_state(&assembly)
+        .viewport_state(&viewport)
+        .rasterization_state(&raster)
+        .multisample_state(&multisample)
+        .depth_stencil_state(&depth)
+        .color_blend_state(&blend)
+        .dynamic_state(&dynamic)
+        .layout(layout)
+        .render_pass(render_pass)
+        .subpass(0);
+    shaders.create(ctx, program.label, &info)
 }

@@ -4,7 +4,7 @@
 
 use crate::base::ParamError;
 use crate::sim::grid::GridSize;
-use crate::sim::params::{positive, Derivatives, WaveParams, DEFAULT_DERIVATIVES};
+use crate::sim::params::{positive, Derivatives, SeaState, WaveParams, DEFAULT_DERIVATIVES};
 use crate::sim::spectrum::{cascade_bands, CascadeSpec, MAX_OCTAVE};
 
 /// Most cascades a simulation may run (issue: 1 to 4).
@@ -134,6 +134,18 @@ impl OceanConfig {
                 }
             })
             .collect()
+    }
+
+    /// This configuration with the waves of `sea`, the coarsest patch refitted to them
+    /// ([`OceanConfig::fit_patches`]) and checked; the flag says whether the patch changed.
+    pub fn with_sea(&self, sea: SeaState) -> Result<(Self, bool), ParamError> {
+        let mut config = Self {
+            waves: *sea.waves(),
+            ..self.clone()
+        };
+        let refit = config.fit_patches();
+        config.validate()?;
+        Ok((config, refit))
     }
 
     /// Checks every parameter; the first violation is returned naming it and its valid range.

@@ -62,7 +62,7 @@ pub use config::{OceanConfig, PatchFit, DEFAULT_PATCH_SIZES};
 pub use dispersion::GRAVITY;
 pub use grid::{AlignedBuf, GridSize, SplitField, Support};
 pub use params::{
-    Derivatives, FoamParams, SpectrumKind, WaveParams, DEFAULT_DERIVATIVES, DEFAULT_FETCH_KM,
-    DEFAULT_GAMMA,
+    Derivatives, FoamParams, SeaState, SpectrumKind, WaveParams, DEFAULT_DERIVATIVES,
+    DEFAULT_FETCH_KM, DEFAULT_GAMMA,
 };
 pub use step::{SimCore, SimError, Simulation, Surfaces};

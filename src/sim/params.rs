@@ -133,6 +133,25 @@ pub const DEFAULT_DERIVATIVES: Derivatives = Derivatives::Finite;
 #[cfg(not(target_os = "android"))]
 pub const DEFAULT_DERIVATIVES: Derivatives = Derivatives::Spectral;
 
+/// A sea state that passed [`WaveParams::validate`]: made once where a value enters (a flag,
+/// the panel, the kept settings, a key), and the only thing a running simulation takes, so no
+/// layer below checks it again.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SeaState(WaveParams);
+
+impl SeaState {
+    /// Checks `waves`; the error names the first parameter out of range.
+    pub fn new(waves: WaveParams) -> Result<Self, ParamError> {
+        waves.validate()?;
+        Ok(Self(waves))
+    }
+
+    /// The waves.
+    pub fn waves(&self) -> &WaveParams {
+        &self.0
+    }
+}
+
 impl WaveParams {
     /// Deep-water wavelength (m) of the spectrum's energy peak: JONSWAP's 2πg/ω_p² (of the
     /// normalised sea, [`crate::sim::spectrum::jonswap::JonswapSea`]), or for Phillips the

@@ -10,7 +10,7 @@ use crate::sim::config::{OceanConfig, PatchFit};
 use crate::sim::evolve::LoopPhase;
 use crate::sim::fft::Fft2d;
 use crate::sim::grid::{GridSize, SplitField};
-use crate::sim::params::WaveParams;
+use crate::sim::params::{SeaState, WaveParams};
 use crate::sim::retune::Retune;
 use crate::sim::spectrum::PackedSpectrum;
 use crate::sim::surface::SurfaceParams;
@@ -115,13 +115,20 @@ impl SimCore {
     /// roughness and foam take effect at the next step for free. With
     /// [`crate::sim::PatchFit::GrowWithWind`] the coarsest patch follows the new wind (the
     /// surfaces carry it to the renderer and the height queries).
-    pub fn set_waves(&mut self, waves: WaveParams) -> Result<(), ParamError> {
-        self.change_waves(waves, Change::Smooth)
+    ///
+    /// Fails only when the refitted patches are out of range; the waves were checked when
+    /// `sea` was made.
+    pub fn set_waves(&mut self, sea: SeaState) -> Result<(), ParamError> {
+        let (config, refit) = self.config.with_sea(sea)?;
+        self.change(config, refit, Change::Smooth);
+        Ok(())
     }
 
     /// [`SimCore::set_waves`] at once: the next step shows the new sea state in full.
-    pub fn set_waves_at_once(&mut self, waves: WaveParams) -> Result<(), ParamError> {
-        self.change_waves(waves, Change::AtOnce)
+    pub fn set_waves_at_once(&mut self, sea: SeaState) -> Result<(), ParamError> {
+        let (config, refit) = self.config.with_sea(sea)?;
+        self.change(config, refit, Change::AtOnce);
+        Ok(())
     }
 
     /// Whether a sea-state change is still being built or blended.
@@ -129,14 +136,10 @@ impl SimCore {
         self.retune.busy()
     }
 
-    fn change_waves(&mut self, waves: WaveParams, change: Change) -> Result<(), ParamError> {
-        waves.validate()?;
-        let mut config = OceanConfig {
-            waves,
-            ..self.config.clone()
-        };
-        let refit = config.fit_patches();
-        config.validate()?;
+    /// Moves to `config` (checked: [`OceanConfig::with_sea`]; `refit`: its coarsest patch
+    /// changed) by `change`.
+    fn change(&mut self, config: OceanConfig, refit: bool, change: Change) {
+        let waves = config.waves;
         let old = self.config.waves;
         self.config = config;
         let reshaped = WaveParams {
@@ -146,7 +149,7 @@ impl SimCore {
             ..waves
         } != old;
         if !(reshaped || refit) && change == Change::Smooth {
-            return Ok(());
+            return;
         }
         let targets = self.config.cascade_specs();
         if change == Change::Smooth && Retune::can_blend(&old, &waves) {
@@ -157,7 +160,6 @@ impl SimCore {
             }
             self.retune = Retune::idle(&waves);
         }
-        Ok(())
     }
 
     /// Stages 2-6 for time `t` (s) into `out`: evolution, four inverse FFTs per cascade,
@@ -263,7 +265,9 @@ struct Slot {
     /// A finished step.
     done: Option<Surfaces>,
     /// New waves to apply before the next step.
-    waves: Option<WaveParams>,
+    /// A sea-state change for the worker: the configuration [`Simulation::set_waves`]
+    /// checked, and whether its coarsest patch changed.
+    change: Option<(OceanConfig, bool)>,
     /// Where the viewer is (world x, z), for the whitecap maps.
     focus: [f32; 2],
     /// Wall time of the last finished step on the worker.
@@ -413,18 +417,12 @@ impl Simulation {
         &self.front
     }
 
-    /// Validates and queues new waves; they apply from the next step (stage 1 re-runs on the
-    /// worker if the spectrum changed).
-    pub fn set_waves(&mut self, waves: WaveParams) -> Result<(), ParamError> {
-        waves.validate()?;
-        let mut config = OceanConfig {
-            waves,
-            ..self.config.clone()
-        };
-        config.fit_patches();
-        config.validate()?;
-        self.config = config;
-        self.shared.lock().waves = Some(waves);
+    /// Queues the sea state `sea`; it applies from the next step (see [`SimCore::set_waves`]).
+    /// Fails only when the refitted patches are out of range.
+    pub fn set_waves(&mut self, sea: SeaState) -> Result<(), ParamError> {
+        let (config, refit) = self.config.with_sea(sea)?;
+        self.config = config.clone();
+        self.shared.lock().change = Some((config, refit));
         Ok(())
     }
 
@@ -502,15 +500,14 @@ fn worker_loop(core: &mut SimCore, shared: &Shared) {
             slot = shared.wake.wait(slot).unwrap_or_else(|e| e.into_inner());
             continue;
         };
-        let waves = slot.waves.take();
+        let change = slot.change.take();
         let focus = slot.focus;
         drop(slot);
         core.set_focus(focus[0], focus[1]);
         // The step's time includes taking new waves (a sea-state change starts there).
         let start = std::time::Instant::now();
-        if let Some(w) = waves {
-            // Already validated by `Simulation::set_waves`.
-            let _ = core.set_waves(w);
+        if let Some((config, refit)) = change {
+            core.change(config, refit, Change::Smooth);
         }
         core.step(t, &mut out);
         let took = start.elapsed();

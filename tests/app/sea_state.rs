@@ -3,7 +3,7 @@
 //! so the peak wavelength fits in it. Run with `--nocapture` for the table in BENCHMARKS.md.
 
 use vr_ocean::sim::spectrum::jonswap;
-use vr_ocean::sim::{OceanConfig, SimCore, Surfaces, DEFAULT_FETCH_KM};
+use vr_ocean::sim::{OceanConfig, SeaState, SimCore, Surfaces, DEFAULT_FETCH_KM};
 
 /// The default sea (three cascades of 256², JONSWAP, default fetch) at `wind` m/s.
 fn default_sea(wind: f32, seed: u64) -> OceanConfig {
@@ -98,7 +98,8 @@ fn the_coarsest_patch_follows_a_live_wind_change() {
     let mut waves = cfg.waves;
     waves.wind_speed = 20.0;
     // At once: the smooth change (built over steps, then blended) is tests/app/sea_state_blend.rs's.
-    core.set_waves_at_once(waves).unwrap();
+    core.set_waves_at_once(SeaState::new(waves).unwrap())
+        .unwrap();
     let grown = core.config().patch_sizes[0];
     assert!(grown > 400.0, "20 m/s: coarsest patch {grown} m");
     // The next step's surfaces carry the new patch (the renderer reads it from there).

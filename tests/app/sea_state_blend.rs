@@ -7,7 +7,7 @@
 use std::time::{Duration, Instant};
 
 use vr_ocean::sim::retune::BLEND_SECONDS;
-use vr_ocean::sim::{OceanConfig, SimCore, Surfaces, WaveParams};
+use vr_ocean::sim::{OceanConfig, SeaState, SimCore, Surfaces, WaveParams};
 use vr_ocean::ui::Beaufort;
 
 /// Steps per second (a Quest 2's 72 Hz).
@@ -54,9 +54,10 @@ fn run(smooth: bool) -> Run {
         let start = Instant::now();
         if i == BEFORE {
             if smooth {
-                core.set_waves(gale).unwrap();
+                core.set_waves(SeaState::new(gale).unwrap()).unwrap();
             } else {
-                core.set_waves_at_once(gale).unwrap();
+                core.set_waves_at_once(SeaState::new(gale).unwrap())
+                    .unwrap();
             }
         }
         core.step(t, &mut out);

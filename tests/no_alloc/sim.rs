@@ -6,7 +6,7 @@ use crate::common;
 use std::sync::Mutex;
 
 use vr_ocean::sim::interaction::{InteractionConfig, InteractionLayer, WaveSource};
-use vr_ocean::sim::{Derivatives, OceanConfig, Simulation, WaveParams};
+use vr_ocean::sim::{Derivatives, OceanConfig, SeaState, Simulation, WaveParams};
 
 /// The tests share the counter, so they take turns.
 static SERIAL: Mutex<()> = Mutex::new(());
@@ -67,7 +67,7 @@ fn sea_state_changes_do_not_allocate() {
         sim.step_blocking(t);
     }
     for waves in [gale, calm] {
-        sim.set_waves(waves).unwrap();
+        sim.set_waves(SeaState::new(waves).unwrap()).unwrap();
         // The worker takes the new waves with the next step (that call may allocate).
         t += 1.0 / 72.0;
         sim.step_blocking(t);

@@ -64,7 +64,8 @@ pub fn headset_pipelines(
     ctx: &GpuContext,
     pass: crate::render::render_pass::PassLayout,
 ) -> Result<Vec<PipelineStatistics>, RenderError> {
-    use crate::render::pipeline::{build, ocean_program, Pipelines, Target};
+    use crate::render::ocean::pipelines::{ocean_program, Pipelines};
+    use crate::render::program::{build, Target};
     let Some(log) = ctx.pipeline_statistics.as_ref() else {
         return Err(RenderError::Unsupported(format!(
             "compiler statistics (VK_KHR_pipeline_executable_properties) on {}",

@@ -25,8 +25,7 @@ use super::context::GpuContext;
 use super::error::RenderError;
 use super::memory::{Image, ImageDesc};
 use super::ocean::TargetImages;
-use super::pipeline::{build, Program, Target};
-use super::program::pipeline_layout;
+use super::program::{build, pipeline_layout, Blend, Depth, Program, Target};
 use super::render_pass::{render_pass, PassLayout, StereoMode};
 use super::sampler::{sampler, sampler_of};
 use super::shaders;
@@ -196,7 +195,8 @@ impl Calibrator {
                 bindings: Vec::new(),
                 attributes: Vec::new(),
                 cull: vk::CullModeFlags::NONE,
-                overlay: false,
+                blend: Blend::Opaque,
+                depth: Depth::ReversedZ,
             };
             let pipeline = build(ctx, &program, target)?;
             self.pipelines.push((shader, pipeline));

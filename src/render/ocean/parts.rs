@@ -5,6 +5,7 @@ use super::foam_pattern::FoamPattern;
 use super::frame::{TargetImages, MAX_CASCADES};
 use super::interaction::InteractionTexture;
 use super::mesh::MeshBuffers;
+use super::pipelines::Pipelines;
 use super::probe::PathProbe;
 use super::sky_map::SkyMap;
 use super::slots::{SlotSizes, Slots};
@@ -13,7 +14,7 @@ use super::RendererSettings;
 use crate::lod::OceanLod;
 use crate::render::context::GpuContext;
 use crate::render::error::RenderError;
-use crate::render::pipeline::{PassLayout, Pipelines};
+use crate::render::render_pass::PassLayout;
 use crate::render::targets::Targets;
 use crate::sim::OceanConfig;
 

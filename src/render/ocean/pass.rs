@@ -13,12 +13,12 @@ use ash::vk;
 
 use super::frame::FrameInput;
 use super::mesh::MeshBuffers;
+use super::pipelines::{Pipelines, Push};
 use super::sky_map::SkyLight;
 use super::RendererSettings;
 use crate::lod::{LodSettings, OceanLod};
 use crate::render::barrier::Access;
 use crate::render::camera::Globals;
-use crate::render::pipeline::{Pipelines, Push};
 use crate::render::targets::resolve_eye;
 use crate::sim::detail::{DETAIL_TEXELS, DETAIL_TILE_M};
 use crate::sim::whitecaps::WHITECAP_TEXELS;

@@ -4,7 +4,7 @@
 use glam::Vec3;
 
 use super::anisotropy::Anisotropy;
-use crate::render::pipeline::{Msaa, StereoMode};
+use crate::render::render_pass::{Msaa, StereoMode};
 use crate::render::sky::SunSky;
 use crate::sim::interaction::InteractionLayer;
 use crate::sim::GridSize;

@@ -10,6 +10,7 @@ use std::time::Duration;
 
 use ash::vk;
 
+use super::pipelines::Pipelines;
 use super::solids::{Shape, Solid, SolidInstance, MAX_SOLIDS};
 use crate::lod::{OceanLod, PatchInstance};
 use crate::render::camera::Globals;
@@ -17,7 +18,6 @@ use crate::render::commands;
 use crate::render::context::GpuContext;
 use crate::render::error::RenderError;
 use crate::render::memory::Buffer;
-use crate::render::pipeline::Pipelines;
 
 /// Timestamp queries per frame: the pass's start and end, and one spare. Mesa 25's lavapipe
 /// writes a timestamp recorded after a multiview pass once per view (into queries 1 and 2),

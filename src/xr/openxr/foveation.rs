@@ -6,7 +6,7 @@
 //!   eye images nor the MSAA attachments need `SUBSAMPLED` flags);
 //! - the colour swapchain created with `XrSwapchainCreateInfoFoveationFB` (fragment density
 //!   map), its density maps enumerated through `XrSwapchainImageFoveationVulkanFB`, and the
-//!   render pass reading them (`render::pipeline`);
+//!   render pass reading them (`render::render_pass`);
 //! - a profile (`xrCreateFoveationProfileFB`) applied with `xrUpdateSwapchainFB`.
 //!
 //! Success is logged only when all of it is in place; otherwise one line says what is

@@ -1,16 +1,16 @@
-//! The pipelines built against the stereo render pass (`render_pass`): the ocean and the sky,
-//! and the solids (floating bodies, the deck), with their shared layout and push constants.
+//! The ocean's pipelines, built against the stereo render pass (`render_pass`): the ocean and
+//! the sky (from the air and from under the water), the solids (floating bodies, the deck) and
+//! the comfort vignette, with their shared layout and push constants.
 
 use ash::vk;
 
-use super::context::GpuContext;
-use super::error::RenderError;
-use super::program::{pipeline_layout, ShaderPair};
-use super::render_pass::render_pass;
-pub use super::render_pass::{Msaa, PassLayout, StereoMode, DENSITY_MAP_FORMAT, DEPTH_FORMAT};
-use super::shaders;
+use super::solids::{SolidInstance, SolidVertex};
 use crate::lod::PatchInstance;
-use crate::render::ocean::{SolidInstance, SolidVertex};
+use crate::render::context::GpuContext;
+use crate::render::error::RenderError;
+use crate::render::program::{build, pipeline_layout, Blend, Depth, Program, Target};
+use crate::render::render_pass::{render_pass, PassLayout, StereoMode};
+use crate::render::shaders;
 
 /// Push constants of every pipeline (vertex stage), mirrored by `Push` in the shaders.
 #[repr(C)]
@@ -233,37 +233,6 @@ impl Pipelines {
     }
 }
 
-/// What a pipeline is built against: its layout and the stereo pass.
-#[derive(Clone, Copy)]
-pub(crate) struct Target {
-    /// The pipeline layout.
-    pub layout: vk::PipelineLayout,
-    /// The render pass (`render_pass`).
-    pub render_pass: vk::RenderPass,
-    /// Its samples per pixel.
-    pub msaa: Msaa,
-}
-
-/// The shaders and vertex input of one pipeline drawn in the stereo pass (the ocean's, the
-/// solids', the calibration kernels'), and the name its compiler statistics are filed under.
-pub(crate) struct Program {
-    /// What the pipeline draws (`GpuContext::pipeline_statistics`' label).
-    pub label: &'static str,
-    /// The vertex shader.
-    pub vert: &'static [u32],
-    /// The fragment shader.
-    pub frag: &'static [u32],
-    /// The vertex buffers' bindings (none: vertices from `gl_VertexIndex`).
-    pub bindings: Vec<vk::VertexInputBindingDescription>,
-    /// Their attributes.
-    pub attributes: Vec<vk::VertexInputAttributeDescription>,
-    /// Faces culled.
-    pub cull: vk::CullModeFlags,
-    /// Drawn over the frame: blended by its alpha, neither depth tested nor written (the
-    /// comfort vignette). Otherwise opaque, depth tested and written.
-    pub overlay: bool,
-}
-
 /// Binding 0 per vertex of `vertex` bytes, binding 1 per instance of `instance` bytes.
 fn vertex_and_instance(vertex: usize, instance: usize) -> Vec<vk::VertexInputBindingDescription> {
     vec![
@@ -322,7 +291,8 @@ pub(crate) fn ocean_program(label: &'static str, multiview: bool, frag: &'static
         bindings: vertex_and_instance(12, std::mem::size_of::<PatchInstance>()),
         attributes,
         cull: vk::CullModeFlags::NONE,
-        overlay: false,
+        blend: Blend::Opaque,
+        depth: Depth::ReversedZ,
     }
 }
 
@@ -354,7 +324,8 @@ fn solid_program(multiview: bool) -> Program {
         ),
         attributes,
         cull: vk::CullModeFlags::BACK,
-        overlay: false,
+        blend: Blend::Opaque,
+        depth: Depth::ReversedZ,
     }
 }
 
@@ -372,73 +343,7 @@ fn vignette_program(multiview: bool) -> Program {
         bindings: Vec::new(),
         attributes: Vec::new(),
         cull: vk::CullModeFlags::NONE,
-        overlay: true,
+        blend: Blend::Over,
+        depth: Depth::Ignored,
     }
-}
-
-/// Creates `program`'s pipeline against `target`: triangle lists, depth tested (`GREATER`,
-/// reversed Z) and written, colour written without blending (an overlay: blended by its
-/// alpha, depth untouched), viewport and scissor dynamic.
-pub(crate) fn build(
-    ctx: &GpuContext,
-    program: &Program,
-    target: Target,
-) -> Result<vk::Pipeline, RenderError> {
-    let Target {
-        layout,
-        render_pass,
-        msaa,
-    } = target;
-    let shaders = ShaderPair::new(ctx, program.vert, program.frag)?;
-    let stages = shaders.stages();
-    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
-        .vertex_binding_descriptions(&program.bindings)
-        .vertex_attribute_descriptions(&program.attributes);
-    let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
-        .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
-    let viewport = vk::PipelineViewportStateCreateInfo::default()
-        .viewport_count(1)
-        .scissor_count(1);
-    let raster = vk::PipelineRasterizationStateCreateInfo::default()
-        .polygon_mode(vk::PolygonMode::FILL)
-        .cull_mode(program.cull)
-        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
-        .line_width(1.0);
-    let multisample =
-        vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(msaa.flag());
-    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-        .depth_test_enable(!program.overlay)
-        .depth_write_enable(!program.overlay)
-        .depth_compare_op(vk::CompareOp::GREATER);
-    let blend_attachment = [if program.overlay {
-        vk::PipelineColorBlendAttachmentState::default()
-            .blend_enable(true)
-            .src_color_blend_factor(vk::BlendFactor::SRC_ALPHA)
-            .dst_color_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
-            .color_blend_op(vk::BlendOp::ADD)
-            .src_alpha_blend_factor(vk::BlendFactor::ZERO)
-            .dst_alpha_blend_factor(vk::BlendFactor::ONE)
-            .alpha_blend_op(vk::BlendOp::ADD)
-            .color_write_mask(vk::ColorComponentFlags::RGBA)
-    } else {
-        vk::PipelineColorBlendAttachmentState::default()
-            .color_write_mask(vk::ColorComponentFlags::RGBA)
-    }];
-    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachment);
-    let dynamic = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
-    let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic);
-    let info = vk::GraphicsPipelineCreateInfo::default()
-        .stages(&stages)
-        .vertex_input_state(&vertex_input)
-        .input_assembly_state(&assembly)
-        .viewport_state(&viewport)
-        .rasterization_state(&raster)
-        .multisample_state(&multisample)
-        .depth_stencil_state(&depth)
-        .color_blend_state(&blend)
-        .dynamic_state(&dynamic)
-        .layout(layout)
-        .render_pass(render_pass)
-        .subpass(0);
-    shaders.create(ctx, program.label, &info)
 }
