@@ -14,7 +14,8 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use crate::{capture, Failure, Result};
+use crate::process::{capture, workspace_root};
+use crate::{Failure, Result};
 
 /// The libraries stubbed, by map file stem (the stub is `<stem>.so`).
 pub const LIBRARIES: &[&str] = &["libc", "libm", "libdl", "liblog", "libandroid", "libaaudio"];
@@ -231,7 +232,7 @@ pub fn version_script(versions: &[Version]) -> String {
 
 /// The directory with the maps.
 pub fn maps_dir() -> PathBuf {
-    crate::workspace_root().join("xtask").join("android-api")
+    workspace_root().join("xtask").join("android-api")
 }
 
 /// Writes and builds every stub library for arm64 at `api` into `out` (created), plus an

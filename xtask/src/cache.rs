@@ -15,7 +15,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Instant;
 
-use crate::{on_path, show, Failure, Result};
+use crate::process::{on_path, show};
+use crate::{Failure, Result};
 
 /// The directory holding the trees, their tarballs and locks: `$VR_OCEAN_CACHE` when set,
 /// otherwise `/var/cache/vr-ocean`.

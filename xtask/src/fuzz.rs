@@ -7,7 +7,8 @@
 use std::path::Path;
 use std::process::Command;
 
-use crate::{capture, on_path, run_checked, run_status, say, show, Result};
+use crate::process::{capture, on_path, run_checked, run_status, say, show};
+use crate::Result;
 
 /// The targets, as `fuzz/Cargo.toml` names them.
 pub const TARGETS: &[&str] = &["settings", "camera_path", "sound_params"];

@@ -17,7 +17,8 @@ use std::process::{Command, Stdio};
 use std::time::Instant;
 
 use crate::cache::{mounts_below, note, size_mb, tail, CachedTree};
-use crate::{is_root, on_path, show, Failure, Result};
+use crate::process::{is_root, on_path, show};
+use crate::{Failure, Result};
 
 /// The Debian suite of the root.
 pub const SUITE: &str = "trixie";
@@ -70,7 +71,7 @@ pub fn prepare_step() -> Result<Vec<(String, String)>> {
     // The failure tests load the fault-injection API layer into the client
     // (`tests/common/fault_layer.rs` finds it next to the test binaries, same profile).
     note("building the OpenXR fault-injection layer (tests/fixtures/xr-fault-layer)");
-    let status = crate::cargo()
+    let status = crate::process::cargo()
         .args(["build", "-p", "xr-fault-layer"])
         .status()
         .map_err(|e| Failure::Msg(format!("cannot run cargo: {e}")))?;

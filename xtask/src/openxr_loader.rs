@@ -16,7 +16,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use crate::{say, Failure, Result};
+use crate::process::say;
+use crate::{Failure, Result};
 
 /// The loader version downloaded when no path is given: at least 1.0.34 (older loaders break
 /// on Quest OS v62 and later).
@@ -100,7 +101,7 @@ pub fn resolve(given: Option<&Path>, fallback: Fallback, work: &Path) -> Result<
 
 /// Downloads the AAR to `to` (via a temporary name); `Err` says why it could not.
 fn download(to: &Path) -> std::result::Result<(), String> {
-    if !crate::on_path("curl") {
+    if !crate::process::on_path("curl") {
         return Err(
             "no --openxr-loader given, and curl (Debian: apt install curl) is not \
                     installed to download it"
@@ -143,7 +144,7 @@ fn is_zip(path: &Path) -> Result<bool> {
 
 /// Takes the arm64 loader out of an AAR into `dir`; returns its path.
 fn extract(aar: &Path, dir: &Path) -> Result<PathBuf> {
-    if !crate::on_path("unzip") {
+    if !crate::process::on_path("unzip") {
         return Err(Failure::Msg(format!(
             "{} is an AAR (zip); taking the loader out of it needs unzip (Debian: apt install \
              unzip)",

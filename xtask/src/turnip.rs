@@ -15,7 +15,7 @@
 //! (bookworm's glibc, which a trixie-built library would outrun). Bookworm's meson (1.0) is older
 //! than Mesa 25 asks for (1.1), so meson alone comes from PyPI, pinned ([`MESON`]), in a venv
 //! over Debian's Python (whose mako, yaml and packaging Mesa's generators import); every other
-//! build dependency is Debian's ([`crate::TURNIP_APT_PACKAGES`]). About 3 minutes on 2 cores.
+//! build dependency is Debian's ([`crate::setup::APT_PACKAGES`]). About 3 minutes on 2 cores.
 //!
 //! The shim's device table lacks the Adreno 650 ([`SHIM_A650`] adds it).
 
@@ -25,7 +25,8 @@ use std::process::Command;
 use std::time::Instant;
 
 use crate::cache::{mkdir, note, remove_tree, rename, run_logged, CachedTree};
-use crate::{is_root, Failure, Result};
+use crate::process::is_root;
+use crate::{Failure, Result};
 
 /// The Debian suite whose Mesa source is built (the Monado root's, `crate::monado::SUITE`).
 const SUITE: &str = crate::monado::SUITE;
