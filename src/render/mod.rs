@@ -27,6 +27,7 @@
 //! - [`statistics`]: the driver's compiler statistics of every pipeline (`shader-stats`).
 //! - `sampler`: the samplers every texture is read through (trilinear, anisotropic).
 //! - `upload`: one-time copies of textures made on the CPU.
+//! - `transfer`: every staged copy into a sampled image, between its barriers.
 //! - [`shaders`]: SPIR-V compiled from `shaders/` by `build.rs`.
 
 pub mod barrier;
@@ -48,6 +49,7 @@ pub mod sky;
 pub mod statistics;
 pub(crate) mod targets;
 pub mod tonemap;
+pub(crate) mod transfer;
 pub(crate) mod upload;
 pub mod validation;
 

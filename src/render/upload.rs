@@ -4,10 +4,11 @@
 
 use ash::vk;
 
-use crate::render::barrier::{self, Access, ImageBarrier};
+use crate::render::barrier::{Access, ImageBarrier};
 use crate::render::context::GpuContext;
 use crate::render::error::RenderError;
 use crate::render::memory::{Buffer, Image};
+use crate::render::transfer::{colour_region, record_staged_copies};
 
 /// One mip level's texels, tightly packed in the image's format.
 pub(crate) struct Level<'a> {
@@ -51,23 +52,13 @@ pub(crate) fn upload_layers(
     for (layer, levels) in layers.iter().enumerate() {
         for (m, level) in levels.iter().enumerate() {
             bytes[offset..offset + level.bytes.len()].copy_from_slice(level.bytes);
-            regions.push(vk::BufferImageCopy {
-                buffer_offset: offset as u64,
-                buffer_row_length: 0,
-                buffer_image_height: 0,
-                image_subresource: vk::ImageSubresourceLayers {
-                    aspect_mask: vk::ImageAspectFlags::COLOR,
-                    mip_level: m as u32,
-                    base_array_layer: layer as u32,
-                    layer_count: 1,
-                },
-                image_offset: vk::Offset3D::default(),
-                image_extent: vk::Extent3D {
-                    width: level.width,
-                    height: level.height,
-                    depth: 1,
-                },
-            });
+            regions.push(colour_region(
+                offset as u64,
+                layer as u32,
+                m as u32,
+                [0, 0],
+                [level.width, level.height],
+            ));
             offset += level.bytes.len();
         }
     }
@@ -83,26 +74,8 @@ pub(crate) fn upload_layers(
         )
         .mips(mips)
         .discard();
-        barrier::record(d, cmd, [to_copy], None);
-        // SAFETY: `cmd` is recording; the image is in TRANSFER_DST_OPTIMAL after the barrier
-        // and every region lies inside the staging buffer and its level.
-        unsafe {
-            d.cmd_copy_buffer_to_image(
-                cmd,
-                staging.raw,
-                image.raw,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                &regions,
-            )
-        };
-        let to_read = ImageBarrier::colour(
-            image.raw,
-            layer_count,
-            Access::TransferWrite,
-            Access::ShaderSampled,
-        )
-        .mips(mips);
-        barrier::record(d, cmd, [to_read], None);
+        // Every region lies inside the staging buffer and its level.
+        record_staged_copies(d, cmd, staging.raw, [to_copy], [&regions]);
     });
     staging.destroy(ctx);
     result

@@ -93,6 +93,34 @@ pub struct FrameState {
     pub vignette: f32,
 }
 
+impl FrameState {
+    /// A frame seen from `views`, shown at `predicted_display_time` (s) with `period` (s) to
+    /// the next, numbered `index`, in which nothing else happens: drawn, not paused, no
+    /// tweaks, hands, pointer events or rays, on the deck, no vignette. The desktop backends
+    /// start from it and set what they have.
+    pub fn seen_from(
+        index: u64,
+        predicted_display_time: f64,
+        period: f64,
+        views: [EyeView; 2],
+    ) -> Self {
+        Self {
+            index,
+            predicted_display_time,
+            period,
+            views,
+            should_render: true,
+            paused: false,
+            tweaks: [None; MAX_TWEAKS],
+            hands: [None; 2],
+            pointer: [None; MAX_POINTER_EVENTS],
+            rays: [None; 2],
+            in_water: false,
+            vignette: 0.0,
+        }
+    }
+}
+
 /// The images a frame renders into: indices into [`TargetImages::images`] and
 /// [`TargetImages::depth`] (0 when the backend has no depth images).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -6,11 +6,12 @@
 use ash::vk;
 
 use super::textures::region;
-use crate::render::barrier::{self, Access, ImageBarrier};
+use crate::render::barrier::{Access, ImageBarrier};
 use crate::render::context::GpuContext;
 use crate::render::error::RenderError;
 use crate::render::memory::{Image, ImageDesc};
 use crate::render::sampler::sampler_with;
+use crate::render::transfer::record_staged_copies;
 use crate::sim::interaction::InteractionLayer;
 use crate::sim::GridSize;
 
@@ -109,26 +110,9 @@ impl InteractionTexture {
             Access::TransferWrite,
         )
         .discard()];
-        barrier::record(d, cmd, to_copy, None);
         let region = region(offset as usize, 0, 0, self.side);
-        // SAFETY: `cmd` is recording; the image is in TRANSFER_DST_OPTIMAL after the barrier,
-        // and the region lies inside the staging buffer (`staging_size` at `offset`).
-        unsafe {
-            d.cmd_copy_buffer_to_image(
-                cmd,
-                staging,
-                self.image.raw,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                &[region],
-            );
-        }
-        let to_read = to_copy.map(|b| ImageBarrier {
-            from: Access::TransferWrite,
-            to: Access::ShaderSampled,
-            contents: barrier::Contents::Keep,
-            ..b
-        });
-        barrier::record(d, cmd, to_read, None);
+        // The region lies inside the staging buffer (`staging_size` at `offset`).
+        record_staged_copies(d, cmd, staging, to_copy, [&[region]]);
     }
 
     /// Frees what was made. The GPU must be done with it.

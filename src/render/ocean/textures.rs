@@ -7,11 +7,12 @@
 
 use ash::vk;
 
-use crate::render::barrier::{self, Access, ImageBarrier};
+use crate::render::barrier::{Access, ImageBarrier};
 use crate::render::context::GpuContext;
 use crate::render::error::RenderError;
 use crate::render::memory::{Image, ImageDesc};
 use crate::render::sampler::{sampler, sampler_of};
+use crate::render::transfer::{colour_region, record_staged_copies};
 use crate::sim::whitecaps::{WHITECAP_LEVELS, WHITECAP_TEXELS};
 use crate::sim::{pack, GridSize, OceanConfig, Surfaces};
 
@@ -220,24 +221,16 @@ impl CascadeTextures {
             .mips(caps.mips)
             .discard(),
         ];
-        barrier::record(d, cmd, to_copy, None);
-        let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
         let (disp_regions, rest) = self.regions.split_at(self.disp_regions);
         let (norm_regions, cap_regions) = rest.split_at(self.whitecap_regions - self.disp_regions);
-        // SAFETY: `cmd` is recording; all three images are in TRANSFER_DST_OPTIMAL after the barrier
-        // and every region lies inside the staging buffer and its image (`stage`).
-        unsafe {
-            d.cmd_copy_buffer_to_image(cmd, staging, disp.raw, dst, disp_regions);
-            d.cmd_copy_buffer_to_image(cmd, staging, norm.raw, dst, norm_regions);
-            d.cmd_copy_buffer_to_image(cmd, staging, caps.raw, dst, cap_regions);
-        }
-        let to_read = to_copy.map(|b| ImageBarrier {
-            from: Access::TransferWrite,
-            to: Access::ShaderSampled,
-            contents: barrier::Contents::Keep,
-            ..b
-        });
-        barrier::record(d, cmd, to_read, None);
+        // Every region lies inside the staging buffer and its image (`stage`).
+        record_staged_copies(
+            d,
+            cmd,
+            staging,
+            to_copy,
+            [disp_regions, norm_regions, cap_regions],
+        );
     }
 
     /// Frees what was made. The GPU must be done with it.
@@ -258,23 +251,7 @@ impl CascadeTextures {
     }
 }
 
-/// The copy of a `side`² mip `level` of `layer` from `offset` of a staging buffer.
+/// The copy of a square level of `side` texels at `offset` of the staging buffer into `layer`.
 pub(super) fn region(offset: usize, layer: u32, level: u32, side: u32) -> vk::BufferImageCopy {
-    vk::BufferImageCopy {
-        buffer_offset: offset as u64,
-        buffer_row_length: 0,
-        buffer_image_height: 0,
-        image_subresource: vk::ImageSubresourceLayers {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            mip_level: level,
-            base_array_layer: layer,
-            layer_count: 1,
-        },
-        image_offset: vk::Offset3D::default(),
-        image_extent: vk::Extent3D {
-            width: side,
-            height: side,
-            depth: 1,
-        },
-    }
+    colour_region(offset as u64, layer, level, [0, 0], [side, side])
 }

@@ -3,10 +3,11 @@
 
 use ash::vk;
 
-use crate::render::barrier::{self, Access, ImageBarrier};
+use crate::render::barrier::{Access, ImageBarrier};
 use crate::render::context::GpuContext;
 use crate::render::error::RenderError;
 use crate::render::memory::{Buffer, Image, ImageDesc};
+use crate::render::transfer::{colour_region, record_staged_copies};
 
 /// One egui texture on the GPU.
 pub(super) struct Texture {
@@ -98,60 +99,17 @@ impl PanelTextures {
         } else {
             Access::ShaderSampled
         };
-        barrier::record(
-            &ctx.device,
-            cmd,
-            [ImageBarrier::colour(
-                texture.image.raw,
-                1,
-                from,
-                Access::TransferWrite,
-            )],
-            None,
+        let region = colour_region(
+            offset,
+            0,
+            0,
+            [x as i32, y as i32],
+            [extent.width, extent.height],
         );
-        let region = vk::BufferImageCopy {
-            buffer_offset: offset,
-            buffer_row_length: 0,
-            buffer_image_height: 0,
-            image_subresource: vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: 1,
-            },
-            image_offset: vk::Offset3D {
-                x: x as i32,
-                y: y as i32,
-                z: 0,
-            },
-            image_extent: vk::Extent3D {
-                width: extent.width,
-                height: extent.height,
-                depth: 1,
-            },
-        };
-        // SAFETY: the staging buffer holds the pixels; the image is in TRANSFER_DST_OPTIMAL
-        // after the barrier above; the region lies within it (egui's patches do).
-        unsafe {
-            ctx.device.cmd_copy_buffer_to_image(
-                cmd,
-                staging.raw,
-                texture.image.raw,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                &[region],
-            );
-        }
-        barrier::record(
-            &ctx.device,
-            cmd,
-            [ImageBarrier::colour(
-                texture.image.raw,
-                1,
-                Access::TransferWrite,
-                Access::ShaderSampled,
-            )],
-            None,
-        );
+        let to_copy = ImageBarrier::colour(texture.image.raw, 1, from, Access::TransferWrite);
+        // The staging buffer holds the pixels at `offset`; the region lies within the image
+        // (egui's patches do).
+        record_staged_copies(&ctx.device, cmd, staging.raw, [to_copy], [&[region]]);
         Ok(offset + bytes.len() as u64)
     }
 }

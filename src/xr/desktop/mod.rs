@@ -117,6 +117,8 @@ pub struct DesktopSwapchain {
     raw: Vec<vk::Image>,
     extent: vk::Extent2D,
     next: u32,
+    /// The image acquired for the frame being drawn, until it is shown or read.
+    acquired: Option<u32>,
 }
 
 impl DesktopSwapchain {
@@ -129,6 +131,7 @@ impl DesktopSwapchain {
             raw: Vec::with_capacity(SWAPCHAIN_IMAGES),
             extent,
             next: 0,
+            acquired: None,
         };
         let desc = ImageDesc {
             format: COLOUR_FORMAT,
@@ -168,11 +171,25 @@ impl DesktopSwapchain {
         }
     }
 
-    /// The next image, round robin.
-    pub fn acquire(&mut self) -> u32 {
+    /// The next image, round robin, as the frame's target (no depth images).
+    pub fn acquire(&mut self) -> Acquired {
         let i = self.next;
         self.next = (self.next + 1) % SWAPCHAIN_IMAGES as u32;
-        i
+        self.acquired = Some(i);
+        Acquired {
+            colour: i,
+            depth: 0,
+        }
+    }
+
+    /// The image acquired for this frame, if any.
+    pub fn acquired(&self) -> Option<u32> {
+        self.acquired
+    }
+
+    /// The image acquired for this frame, if any, handed over (it is shown or read once).
+    pub fn take_acquired(&mut self) -> Option<u32> {
+        self.acquired.take()
     }
 
     /// Image `i`.
@@ -205,7 +222,6 @@ pub struct HeadlessXr {
     frames: u64,
     settle: u64,
     frame: u64,
-    acquired: Option<u32>,
     /// The comfort vignette shown in every frame (0: none).
     vignette: f32,
 }
@@ -227,7 +243,6 @@ impl HeadlessXr {
             frames,
             settle: 0,
             frame: 0,
-            acquired: None,
             vignette: 0.0,
         })
     }
@@ -255,7 +270,7 @@ impl HeadlessXr {
 
     /// The image acquired this frame, if any.
     pub fn acquired(&self) -> Option<u32> {
-        self.acquired
+        self.swapchain.acquired()
     }
 }
 
@@ -293,30 +308,17 @@ impl FrameLoop for HeadlessXr {
             }
         }
         let state = FrameState {
-            index: self.frame,
-            predicted_display_time: time,
-            period,
-            views: eye_views(position, orientation),
             should_render: !settling,
-            paused: false,
             tweaks,
-            hands: [None; 2],
-            pointer: [None; crate::xr::MAX_POINTER_EVENTS],
-            rays: [None; 2],
-            in_water: false,
             vignette: self.vignette,
+            ..FrameState::seen_from(self.frame, time, period, eye_views(position, orientation))
         };
         self.frame += 1;
         Ok(Some(state))
     }
 
     fn acquire_image(&mut self) -> Result<Acquired, XrError> {
-        let i = self.swapchain.acquire();
-        self.acquired = Some(i);
-        Ok(Acquired {
-            colour: i,
-            depth: 0,
-        })
+        Ok(self.swapchain.acquire())
     }
 
     fn release_image(&mut self) -> Result<(), XrError> {

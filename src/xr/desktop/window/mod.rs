@@ -148,7 +148,6 @@ pub struct WindowXr {
     deadline: Option<Instant>,
     screenshot_wanted: bool,
     screenshot: Option<Screenshot>,
-    acquired: Option<u32>,
     title: String,
     /// Whether the control panel is open (shown over the view).
     panel_shown: bool,
@@ -292,7 +291,6 @@ impl WindowXr {
             deadline: options.duration.map(|d| now + d),
             screenshot_wanted: options.screenshot,
             screenshot: None,
-            acquired: None,
             title: String::with_capacity(256),
             panel_shown: false,
             afloat: None,
@@ -376,32 +374,20 @@ impl FrameLoop for WindowXr {
             Some(p) => p.pose(t),
             None => self.input.controls.pose(),
         };
+        // A developer's window keeps the sea moving when it loses the keyboard (not paused).
         let state = FrameState {
-            index: self.frame,
-            predicted_display_time: t,
-            period: self.period,
-            views: eye_views(position, orientation),
             should_render: extent.width >= 2 && extent.height > 0,
-            // A developer's window keeps the sea moving when it loses the keyboard.
-            paused: false,
             tweaks: self.input.take_tweaks(),
-            hands: [None; 2],
             pointer: self.input.panel.take(),
-            rays: [None; 2],
             in_water: self.afloat.is_some(),
-            vignette: 0.0,
+            ..FrameState::seen_from(self.frame, t, self.period, eye_views(position, orientation))
         };
         self.frame += 1;
         Ok(Some(state))
     }
 
     fn acquire_image(&mut self) -> Result<Acquired, XrError> {
-        let i = self.swapchain.acquire();
-        self.acquired = Some(i);
-        Ok(Acquired {
-            colour: i,
-            depth: 0,
-        })
+        Ok(self.swapchain.acquire())
     }
 
     fn release_image(&mut self) -> Result<(), XrError> {
@@ -409,7 +395,7 @@ impl FrameLoop for WindowXr {
     }
 
     fn end_frame(&mut self, frame: &FrameState) -> Result<(), XrError> {
-        let Some(image) = self.acquired.take() else {
+        let Some(image) = self.swapchain.take_acquired() else {
             return Ok(());
         };
         if !frame.should_render {
