@@ -14,7 +14,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-use crate::{rust_files, src};
+use crate::{repo, rust_files};
 
 /// A module's path from its crate's root, with the crate (`lib` or `bin`) first.
 type ModPath = Vec<String>;
@@ -34,14 +34,28 @@ struct Parsed {
     uses: Vec<Use>,
 }
 
-/// The module a file under `src/` declares, with its crate first.
-fn module_of(rel: &Path) -> ModPath {
+/// How a source folder's files divide into crates.
+#[derive(Clone, Copy)]
+enum Crates {
+    /// The app's `src/`: the library, and the binary (`main.rs`, `cli/`) as a crate of its own.
+    LibAndBin,
+    /// One crate (xtask's binary, the fault layer's library).
+    One,
+}
+
+/// The module a file under a crate's `src/` declares, with its crate first.
+fn module_of(rel: &Path, crates: Crates) -> ModPath {
     let parts: Vec<String> = rel
         .components()
         .map(|c| c.as_os_str().to_string_lossy().into_owned())
         .collect();
     let bin = parts[0] == "main.rs" || parts[0] == "cli" || parts[0] == "cli.rs";
-    let mut module = vec![if bin { "bin" } else { "lib" }.to_string()];
+    let name = match crates {
+        Crates::LibAndBin if bin => "bin",
+        Crates::LibAndBin => "lib",
+        Crates::One => "crate",
+    };
+    let mut module = vec![name.to_string()];
     for (i, p) in parts.iter().enumerate() {
         let last = i + 1 == parts.len();
         let name = p.strip_suffix(".rs").unwrap_or(p);
@@ -327,9 +341,9 @@ impl Crate {
     }
 }
 
-/// Every import loop among `files` (paths under `src/` and their text): each as the files in the
-/// loop and the lines that close it.
-fn import_loops(files: &[(PathBuf, String)]) -> Vec<String> {
+/// Every import loop among `files` (paths under a crate's source folder `dir` and their text):
+/// each as the files in the loop and the lines that close it.
+fn import_loops(dir: &str, crates: Crates, files: &[(PathBuf, String)]) -> Vec<String> {
     let mut parsed = Vec::new();
     let mut krate = Crate {
         modules: BTreeMap::new(),
@@ -337,7 +351,7 @@ fn import_loops(files: &[(PathBuf, String)]) -> Vec<String> {
         globs: BTreeMap::new(),
     };
     for (rel, text) in files {
-        let module = module_of(rel);
+        let module = module_of(rel, crates);
         krate.modules.insert(module.clone(), module.clone());
         let (p, inline) = parse(module.clone(), text);
         for m in inline {
@@ -370,7 +384,7 @@ fn import_loops(files: &[(PathBuf, String)]) -> Vec<String> {
                     .entry(p.module.clone())
                     .or_default()
                     .entry(target)
-                    .or_insert_with(|| format!("src/{}:{}", rel.display(), u.line));
+                    .or_insert_with(|| format!("{dir}/{}:{}", rel.display(), u.line));
             }
         }
     }
@@ -379,7 +393,7 @@ fn import_loops(files: &[(PathBuf, String)]) -> Vec<String> {
         .map(|component| {
             let names: Vec<String> = component
                 .iter()
-                .map(|m| format!("src/{}", file_of[m].display()))
+                .map(|m| format!("{dir}/{}", file_of[m].display()))
                 .collect();
             let lines: Vec<String> = component
                 .iter()
@@ -389,7 +403,7 @@ fn import_loops(files: &[(PathBuf, String)]) -> Vec<String> {
                     component.iter().filter_map(move |b| {
                         let at = edges.get(a)?.get(b)?;
                         Some(format!(
-                            "{at} uses src/{}",
+                            "{at} uses {dir}/{}",
                             file_of.get(b).map(|f| f.display().to_string())?
                         ))
                     })
@@ -461,19 +475,30 @@ fn strongly_connected(edges: &BTreeMap<ModPath, BTreeMap<ModPath, String>>) -> V
 
 #[test]
 fn no_file_imports_lead_back_to_it() {
-    let root = src();
-    let mut paths = Vec::new();
-    rust_files(&root, &mut paths);
-    let files: Vec<(PathBuf, String)> = paths
-        .iter()
-        .map(|p| {
-            (
-                p.strip_prefix(&root).unwrap().to_path_buf(),
-                std::fs::read_to_string(p).unwrap(),
-            )
-        })
-        .collect();
-    let loops = import_loops(&files);
+    let repo = repo();
+    let mut loops = Vec::new();
+    let mut seen = 0;
+    for (dir, crates) in [
+        ("src", Crates::LibAndBin),
+        ("xtask/src", Crates::One),
+        ("tests/fixtures/xr-fault-layer/src", Crates::One),
+    ] {
+        let root = repo.join(dir);
+        let mut paths = Vec::new();
+        rust_files(&root, &mut paths);
+        seen += paths.len();
+        let files: Vec<(PathBuf, String)> = paths
+            .iter()
+            .map(|p| {
+                (
+                    p.strip_prefix(&root).unwrap().to_path_buf(),
+                    std::fs::read_to_string(p).unwrap(),
+                )
+            })
+            .collect();
+        loops.extend(import_loops(dir, crates, &files));
+    }
+    assert!(seen > 100, "found only {seen} source files");
     assert!(
         loops.is_empty(),
         "{} import loop(s): move the shared vocabulary into a leaf module of the room, or the \
@@ -492,12 +517,16 @@ fn the_loop_finder_sees_a_loop() {
     let a_loops = "use super::Slot;\npub struct Body;\n";
     let b_back = "use crate::physics::a::Body;\npub struct Slot;\npub struct Wide;\n";
     let b_clean = "// uses crate::physics::a::Body in prose only\nconst S: &str = \"crate::physics::a\";\npub struct Slot;\npub struct Wide;\n";
-    let loops = import_loops(&[
-        file("lib.rs", "pub mod physics;\n"),
-        file("physics/mod.rs", room),
-        file("physics/a.rs", a_loops),
-        file("physics/b.rs", b_back),
-    ]);
+    let loops = import_loops(
+        "src",
+        Crates::LibAndBin,
+        &[
+            file("lib.rs", "pub mod physics;\n"),
+            file("physics/mod.rs", room),
+            file("physics/a.rs", a_loops),
+            file("physics/b.rs", b_back),
+        ],
+    );
     assert_eq!(loops.len(), 1, "{loops:?}");
     assert!(
         loops[0].starts_with("src/physics/a.rs <-> src/physics/b.rs")
@@ -506,16 +535,20 @@ fn the_loop_finder_sees_a_loop() {
         "{}",
         loops[0]
     );
-    let clean = import_loops(&[
-        file("lib.rs", "pub mod physics;\n"),
-        file("physics/mod.rs", room),
-        file("physics/a.rs", a_loops),
-        file("physics/b.rs", b_clean),
-    ]);
+    let clean = import_loops(
+        "src",
+        Crates::LibAndBin,
+        &[
+            file("lib.rs", "pub mod physics;\n"),
+            file("physics/mod.rs", room),
+            file("physics/a.rs", a_loops),
+            file("physics/b.rs", b_clean),
+        ],
+    );
     assert!(clean.is_empty(), "{clean:?}");
     // A multi-line grouped `use`, an inline path and a plain `use` close a loop of three; the
     // same back edge in a test module does not.
-    let three = import_loops(&[
+    let three = import_loops("src", Crates::LibAndBin, &[
         file("lib.rs", "pub mod sim;\n"),
         file("sim/mod.rs", "mod x;\nmod y;\nmod z;\n"),
         file("sim/x.rs", "use super::{\n    y::Y,\n    other,\n};\npub struct X;\n"),
@@ -531,15 +564,19 @@ fn the_loop_finder_sees_a_loop() {
         "{}",
         three[0]
     );
-    let tested = import_loops(&[
-        file("lib.rs", "pub mod sim;\n"),
-        file("sim/mod.rs", "mod x;\nmod y;\n"),
-        file("sim/x.rs", "use super::y::Y;\npub struct X;\n"),
-        file(
-            "sim/y.rs",
-            "pub struct Y;\n#[cfg(test)]\nmod tests {\n    use crate::sim::x::X;\n}\n",
-        ),
-    ]);
+    let tested = import_loops(
+        "src",
+        Crates::LibAndBin,
+        &[
+            file("lib.rs", "pub mod sim;\n"),
+            file("sim/mod.rs", "mod x;\nmod y;\n"),
+            file("sim/x.rs", "use super::y::Y;\npub struct X;\n"),
+            file(
+                "sim/y.rs",
+                "pub struct Y;\n#[cfg(test)]\nmod tests {\n    use crate::sim::x::X;\n}\n",
+            ),
+        ],
+    );
     assert!(tested.is_empty(), "{tested:?}");
     assert_eq!(
         expand_tree("a::{b, c::{d, self}, e as f}"),

@@ -16,13 +16,15 @@
 //!
 //! By job: [`args`] (the command lines), [`tools`] (finding the tools of either build, and
 //! naming what is missing), [`build`] (the library, then packaging), [`sign`] (the debug
-//! keystore and apksigner), [`paths`] (the target directory and where the APKs go), [`device`]
+//! keystore and apksigner), [`paths`] (the target directory and where the APKs go), [`quest`] (the app's ids and the
+//! Quest's target and API level), [`device`]
 //! (`install` and `launch` over adb).
 
 mod args;
 mod build;
 mod device;
 mod paths;
+mod quest;
 mod sign;
 mod tools;
 
@@ -30,28 +32,11 @@ pub use args::{parse_apk_args, parse_release_flag, ApkOpts};
 use build::build_apk;
 pub use device::{cmd_install, cmd_launch};
 pub use paths::{apk_path, target_dir};
+pub use quest::{ACTIVITY, ANDROID_TARGET, DEBIAN_FRAMEWORK_RES, LOG_TAG, MIN_API, PACKAGE};
 
 use crate::openxr_loader;
 use crate::process::say;
 use crate::Result;
-
-/// The Rust target of the Quest.
-pub const ANDROID_TARGET: &str = "aarch64-linux-android";
-
-/// The minimum API level (Quest OS is Android 10 and later).
-pub const MIN_API: u32 = 29;
-
-/// The application id in `android/AndroidManifest.xml`.
-pub const PACKAGE: &str = "com.vrocean.ocean";
-
-/// The launchable activity (Android's own NativeActivity).
-pub const ACTIVITY: &str = "android.app.NativeActivity";
-
-/// The logcat tag of the app (`vr_ocean::android::LOG_TAG`).
-pub const LOG_TAG: &str = "vr-ocean";
-
-/// Debian's `framework-res.apk` of API 29 (package `android-framework-res`).
-pub const DEBIAN_FRAMEWORK_RES: &str = "/usr/share/android-framework-res/framework-res.apk";
 
 /// `cargo xtask apk`.
 pub fn cmd_apk(opts: &ApkOpts) -> Result<()> {
