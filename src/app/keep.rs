@@ -3,7 +3,7 @@
 //! run's last word however the run ended, each saved atomically
 //! (`ui::store::SettingsFile::save`) and only when it differs from what the file holds.
 
-use super::live::Chosen;
+use super::chosen::Chosen;
 use super::RunHooks;
 use crate::ui::store::SettingsFile;
 use crate::ui::Settings;

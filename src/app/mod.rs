@@ -2,11 +2,11 @@
 //! [`FrameLoop`]. The simulation step for the next frame runs on its own Rayon pool while this
 //! frame's LOD is updated and its commands are recorded and submitted.
 
+pub mod chosen;
 pub mod clock;
 pub mod floating;
 pub mod govern;
 pub mod keep;
-pub mod live;
 mod panel;
 pub mod report;
 pub mod scripted;
@@ -150,7 +150,7 @@ pub trait RunHooks {
     /// the process); and at the end of the run however it ended (a lost runtime, a device
     /// error). A process killed at any moment loses at most the last [`KEEP_AFTER`] of
     /// changes.
-    fn keep(&mut self, _chosen: &live::Chosen) {}
+    fn keep(&mut self, _chosen: &chosen::Chosen) {}
 
     /// The control panel drew a new image during this frame (egui ran: it allocates). Tests
     /// that count allocations tell these frames apart.
@@ -212,9 +212,9 @@ struct Frames<'a> {
     /// Display time to world time across the user's absences (`FrameState::paused`).
     clock: clock::WorldClock,
     /// The choices last given to [`RunHooks::keep`] (or the run's start).
-    kept: Option<live::Chosen>,
+    kept: Option<chosen::Chosen>,
     /// A change not kept yet, and since when it has stood.
-    changed: Option<(live::Chosen, Instant)>,
+    changed: Option<(chosen::Chosen, Instant)>,
     stats: RunStats,
 }
 
@@ -386,9 +386,9 @@ impl<'a> Frames<'a> {
     /// What the user has chosen now: the waves, the preset (the user's, not the governor's
     /// step), the sky and the comfort options; a change the panel has not applied yet is the
     /// user's last word too.
-    fn chosen(&self) -> live::Chosen {
+    fn chosen(&self) -> chosen::Chosen {
         let (waves, sun) = self.panel.as_ref().map_or((None, None), |p| p.pending());
-        live::Chosen {
+        chosen::Chosen {
             waves: waves.map_or(self.sim.config().waves, |s| *s.waves()),
             preset: self
                 .governed

@@ -1,7 +1,7 @@
 //! What a run measured and ended with ([`RunReport`]), returned by [`crate::app::run`].
 
+use super::chosen;
 use super::govern::GovernorChange;
-use super::live;
 use super::sound::SoundReport;
 use super::timing::FrameTimes;
 
@@ -32,5 +32,5 @@ pub struct RunReport {
     /// What the sound output did, when the run had sound.
     pub audio: Option<SoundReport>,
     /// What the user had chosen by the end (waves, preset, sky).
-    pub chosen: live::Chosen,
+    pub chosen: chosen::Chosen,
 }

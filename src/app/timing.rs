@@ -1,9 +1,12 @@
 //! Frame-time samples and their percentiles, collected without allocating per frame and
 //! written as `frame_times.json`, and the run's other counts (`RunStats`).
 
+use std::fmt::Write as _;
 use std::time::{Duration, Instant};
 
-use super::live::RecentFrames;
+use crate::lod::QualityPreset;
+use crate::sim::WaveParams;
+use crate::xr::gpu_governor::QualityStep;
 
 /// What the loop measures: the timings, draws and the window's statistics line.
 pub(super) struct RunStats {
@@ -164,6 +167,109 @@ impl serde::Serialize for FrameTimes {
     }
 }
 
+/// Samples kept for the title statistics.
+const RECENT: usize = 64;
+
+/// The last `RECENT` frames' timings (ms) and draw counts, for a live summary.
+#[derive(Clone, Debug)]
+pub struct RecentFrames {
+    frame: [f64; RECENT],
+    sim: [f64; RECENT],
+    gpu: [f64; RECENT],
+    draws: [u32; RECENT],
+    len: usize,
+    next: usize,
+}
+
+impl Default for RecentFrames {
+    fn default() -> Self {
+        Self {
+            frame: [0.0; RECENT],
+            sim: [0.0; RECENT],
+            gpu: [0.0; RECENT],
+            draws: [0; RECENT],
+            len: 0,
+            next: 0,
+        }
+    }
+}
+
+fn median(samples: &[f64]) -> f64 {
+    let mut v = [0.0; RECENT];
+    let v = &mut v[..samples.len()];
+    v.copy_from_slice(samples);
+    v.sort_unstable_by(f64::total_cmp);
+    v.get(v.len().saturating_sub(1) / 2).copied().unwrap_or(0.0)
+}
+
+impl RecentFrames {
+    /// Records one frame: total, simulation step, GPU pass (when timed) and draws.
+    pub fn push(&mut self, frame: Duration, sim: Duration, gpu: Option<Duration>, draws: u32) {
+        let i = self.next;
+        self.frame[i] = frame.as_secs_f64() * 1e3;
+        self.sim[i] = sim.as_secs_f64() * 1e3;
+        self.gpu[i] = gpu.map_or(f64::NAN, |g| g.as_secs_f64() * 1e3);
+        self.draws[i] = draws;
+        self.next = (i + 1) % RECENT;
+        self.len = (self.len + 1).min(RECENT);
+    }
+
+    /// The medians of the recent frames' total time and GPU pass time (ms; the GPU's `None`
+    /// when no frame was timed), for the panel's performance line. Allocates nothing.
+    pub fn medians(&self) -> (f64, Option<f64>) {
+        let n = self.len;
+        let gpu = median(&self.gpu[..n]);
+        (
+            median(&self.frame[..n]),
+            (n > 0 && !gpu.is_nan()).then_some(gpu),
+        )
+    }
+
+    /// Writes a one-line summary (p50 of each timing) into `out`, replacing its contents;
+    /// allocates nothing once `out` has room for about 200 bytes.
+    /// With the GPU-time governor on, `governor` is its level, shown after the preset.
+    pub fn summarise(
+        &self,
+        out: &mut String,
+        preset: QualityPreset,
+        waves: &WaveParams,
+        governor: Option<QualityStep>,
+    ) {
+        out.clear();
+        let n = self.len;
+        if n == 0 {
+            out.push_str("warming up");
+        } else {
+            let frame = median(&self.frame[..n]);
+            let fps = if frame > 0.0 { 1e3 / frame } else { 0.0 };
+            let gpu = median(&self.gpu[..n]);
+            let draws = self.draws[(self.next + RECENT - 1) % RECENT];
+            let _ = write!(
+                out,
+                "frame {frame:.1} ms ({fps:.0} fps) | sim {:.1} ms | GPU ",
+                median(&self.sim[..n])
+            );
+            let _ = if gpu.is_nan() {
+                write!(out, "-")
+            } else {
+                write!(out, "{gpu:.1} ms")
+            };
+            let _ = write!(out, " | {draws} draws");
+        }
+        let _ = write!(
+            out,
+            " | {} | wind {:.0} m/s {:.0} deg | chop {:.2}",
+            preset.name(),
+            waves.wind_speed,
+            waves.wind_direction_deg,
+            waves.choppiness
+        );
+        if let Some(level) = governor {
+            let _ = write!(out, " | GPU governor: {}", level.name());
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -184,5 +290,40 @@ mod tests {
         let json = serde_json::to_value(&t).unwrap();
         assert_eq!(json["lod"]["p50"], 1000.0);
         assert_eq!(json["lod"]["samples"], 100);
+    }
+
+    #[test]
+    fn summary_shows_medians_of_recent_frames() {
+        let mut r = RecentFrames::default();
+        let mut s = String::with_capacity(256);
+        let waves = WaveParams::default();
+        r.summarise(&mut s, QualityPreset::High, &waves, None);
+        assert!(s.starts_with("warming up | high"), "{s}");
+        for ms in [10, 30, 20] {
+            let d = Duration::from_millis(ms);
+            r.push(d, d / 10, None, 12);
+        }
+        r.summarise(&mut s, QualityPreset::Low, &waves, None);
+        assert!(!s.contains("governor"), "{s}");
+        assert!(s.starts_with("frame 20.0 ms (50 fps) | sim 2.0 ms | GPU - | 12 draws | low"));
+        for _ in 0..RECENT {
+            r.push(
+                Duration::from_millis(5),
+                Duration::ZERO,
+                Some(Duration::from_millis(3)),
+                7,
+            );
+        }
+        r.summarise(
+            &mut s,
+            QualityPreset::Low,
+            &waves,
+            Some(QualityStep::Scale85),
+        );
+        assert!(s.ends_with("| GPU governor: scale-0.85"), "{s}");
+        assert!(
+            s.contains("frame 5.0 ms") && s.contains("GPU 3.0 ms | 7 draws"),
+            "{s}"
+        );
     }
 }

@@ -1,11 +1,13 @@
 //! The user's live changes in the frame loop: the window's keys, the controllers' buttons and
 //! a camera path's scripted events ([`Tweak`]s), applied at the frame start: waves (through
-//! [`live::apply_wave_tweak`]), the sun, a thrown crate, a launched boat, a quality preset
+//! [`apply_wave_tweak`]), the sun, a thrown crate, a launched boat, a quality preset
 //! (which rebuilds the LOD and the renderer; the GPU governor's LOD step uses the same).
 
-use super::{live, AppError, Frames};
+use super::{AppError, Frames};
 use crate::lod::{LodSettings, OceanLod, OceanSize, QualityPreset};
 use crate::render::OceanRenderer;
+use crate::sim::{SeaState, Simulation, WaveParams};
+use crate::ui::Beaufort;
 use crate::xr::{FrameState, Tweak};
 
 impl Frames<'_> {
@@ -26,7 +28,7 @@ impl Frames<'_> {
                 Tweak::Throw => self.throw(frame),
                 Tweak::LaunchBoat(speed) => self.launch_boat(frame, speed),
                 Tweak::Sun { elevation, azimuth } => self.move_sun(elevation, azimuth)?,
-                t => live::apply_wave_tweak(&mut self.sim, t),
+                t => apply_wave_tweak(&mut self.sim, t),
             }
         }
         Ok(())
@@ -120,5 +122,96 @@ impl Frames<'_> {
             }
             None => self.switch_preset(preset),
         }
+    }
+}
+
+/// Applies a wave tweak (wind speed, direction, choppiness) through
+/// [`Simulation::set_waves`]; logs the new value, or why it was refused. Preset tweaks are
+/// the caller's (they rebuild the LOD and renderer) and are ignored here.
+pub fn apply_wave_tweak(sim: &mut Simulation, tweak: Tweak) {
+    let mut waves: WaveParams = sim.config().waves;
+    let what = match tweak {
+        Tweak::WindSpeed(d) => {
+            waves.wind_speed += d;
+            "wind speed"
+        }
+        Tweak::WindDirection(d) => {
+            waves.wind_direction_deg = (waves.wind_direction_deg + d).rem_euclid(360.0);
+            "wind direction"
+        }
+        Tweak::SeaState(d) => {
+            let now = Beaufort::of_wind(waves.wind_speed).map_or(0, Beaufort::number);
+            let to = (now as i32 + d as i32).clamp(0, crate::ui::beaufort::MAX_PRESET as i32);
+            let force = Beaufort::new(to as u8).expect("clamped to the scale");
+            waves.wind_speed = force.wind_speed();
+            log::info!("sea state: Beaufort {to}, {}", force.force().name);
+            "sea state"
+        }
+        Tweak::Choppiness(d) => {
+            // Rounded to the step so repeated presses land on 0 and 2 exactly.
+            waves.choppiness = ((waves.choppiness + d) * 100.0).round() / 100.0;
+            "choppiness"
+        }
+        Tweak::Preset(_)
+        | Tweak::NextPreset
+        | Tweak::Throw
+        | Tweak::LaunchBoat(_)
+        | Tweak::Sun { .. } => return,
+    };
+    match SeaState::new(waves).and_then(|sea| sim.set_waves(sea)) {
+        Ok(()) => log::info!(
+            "{what}: wind {:.1} m/s from {:.0} deg, choppiness {:.2}",
+            waves.wind_speed,
+            waves.wind_direction_deg,
+            waves.choppiness
+        ),
+        Err(e) => log::warn!("{what} change refused: {e}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wave_tweaks_apply_and_out_of_range_values_are_refused() {
+        let cfg = crate::sim::OceanConfig::single(16, 50.0).unwrap();
+        let mut sim = Simulation::new(cfg, 1).unwrap();
+        let w0 = sim.config().waves;
+        apply_wave_tweak(&mut sim, Tweak::WindSpeed(2.0));
+        assert_eq!(sim.config().waves.wind_speed, w0.wind_speed + 2.0);
+        apply_wave_tweak(&mut sim, Tweak::WindSpeed(-1000.0));
+        assert_eq!(sim.config().waves.wind_speed, w0.wind_speed + 2.0);
+        apply_wave_tweak(&mut sim, Tweak::WindDirection(-15.0));
+        assert_eq!(
+            sim.config().waves.wind_direction_deg,
+            (w0.wind_direction_deg - 15.0).rem_euclid(360.0)
+        );
+        for _ in 0..40 {
+            apply_wave_tweak(&mut sim, Tweak::Choppiness(0.1));
+        }
+        assert_eq!(sim.config().waves.choppiness, 2.0);
+        // Sea states by Beaufort force: 12 m/s is force 6; up two is a gale's middle.
+        apply_wave_tweak(&mut sim, Tweak::SeaState(2));
+        assert_eq!(
+            sim.config().waves.wind_speed,
+            Beaufort::new(8).unwrap().wind_speed()
+        );
+        for _ in 0..20 {
+            apply_wave_tweak(&mut sim, Tweak::SeaState(-1));
+        }
+        assert_eq!(
+            sim.config().waves.wind_speed,
+            Beaufort::new(0).unwrap().wind_speed()
+        );
+        apply_wave_tweak(&mut sim, Tweak::SeaState(4));
+        assert_eq!(
+            sim.config().waves.wind_speed,
+            Beaufort::new(4).unwrap().wind_speed()
+        );
+        apply_wave_tweak(&mut sim, Tweak::Preset(QualityPreset::Low));
+        assert_eq!(sim.config().waves.choppiness, 2.0);
+        // The simulation still steps with the new waves.
+        assert!(sim.step_blocking(0.5).max_displacement()[1] > 0.0);
     }
 }

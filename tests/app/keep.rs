@@ -9,8 +9,8 @@ use crate::common;
 use std::time::{Duration, Instant};
 
 use common::gpu;
+use vr_ocean::app::chosen::Chosen;
 use vr_ocean::app::keep::SettingsKeeper;
-use vr_ocean::app::live::Chosen;
 use vr_ocean::app::{self, RunHooks};
 use vr_ocean::render::StereoMode;
 use vr_ocean::ui::SettingsFile;
