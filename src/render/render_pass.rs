@@ -1,6 +1,7 @@
 //! The stereo render pass: how both eyes are drawn (multiview with view mask 0b11, or one
 //! layer per pass), its samples, the depth it keeps and the fragment density map it reads,
-//! and the `VkRenderPass` made for them. The pipelines are built against it (`pipeline`).
+//! and the `VkRenderPass` made for them. The pipelines are built against it (`program`,
+//! `ocean/pipelines`).
 
 use ash::vk;
 

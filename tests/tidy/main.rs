@@ -8,6 +8,7 @@
 
 mod layers;
 mod loops;
+mod paths;
 mod size;
 
 use std::path::{Path, PathBuf};
