@@ -44,9 +44,9 @@ enum Phase {
 /// The sea-state change in progress, for all cascades ([`crate::sim::SimCore`] owns one).
 pub(crate) struct Retune {
     phase: Phase,
-    /// The new state's waves and spectrum model (made on the first build step, when
-    /// `model_ready` is false: the step that takes the new waves stays light).
-    waves: WaveParams,
+    /// The new state's spectrum model (made on the first build step, when `model_ready` is
+    /// false: the step that takes the new waves stays light). The waves themselves are the
+    /// simulation's ([`crate::sim::SimCore`] holds them; each call is handed them).
     model: SpectrumModel,
     model_ready: bool,
     /// The wind shown at weight 0 and at 1 (the renderer's roughness and the whitecaps
@@ -70,7 +70,6 @@ impl Retune {
     pub fn idle(waves: &WaveParams) -> Self {
         Self {
             phase: Phase::Idle,
-            waves: *waves,
             model: SpectrumModel::new(waves),
             model_ready: true,
             winds: [waves.wind_speed; 2],
@@ -139,7 +138,6 @@ impl Retune {
             t.to_moments = Moments::default();
             t.to_support = Support::empty();
         }
-        self.waves = *waves;
         self.model_ready = false;
         self.winds = [shown, waves.wind_speed];
         self.towards = [shown_toward, waves.toward()];
@@ -147,23 +145,30 @@ impl Retune {
         self.phase = Phase::Build { rows: 0, rings: 0 };
     }
 
-    /// Advances the change by one step of `dt` simulation seconds: a slice of the build, a
-    /// blend step (the spectra repacked) or a slice of the settling. Allocates nothing.
-    pub fn advance(&mut self, dt: f64, cascades: &mut [CascadeSim]) {
+    /// Advances the change to `waves` (the ones [`Retune::begin`] was given) by one step of
+    /// `dt` simulation seconds: a slice of the build, a blend step (the spectra repacked) or a
+    /// slice of the settling. Allocates nothing.
+    pub fn advance(&mut self, dt: f64, waves: &WaveParams, cascades: &mut [CascadeSim]) {
         match self.phase {
             Phase::Idle => {}
-            Phase::Build { rows, rings } => self.build(rows, rings, cascades),
-            Phase::Blend { elapsed, turn } => self.blend(elapsed + dt, turn, cascades),
-            Phase::Settle { rows } => self.settle(rows, cascades),
+            Phase::Build { rows, rings } => self.build(rows, rings, waves, cascades),
+            Phase::Blend { elapsed, turn } => self.blend(elapsed + dt, turn, waves, cascades),
+            Phase::Settle { rows } => self.settle(rows, waves, cascades),
         }
     }
 
     /// A slice of the build; the step after the last slice switches grids and starts the
     /// blend (each on a step of its own, so neither adds to the other's cost).
-    fn build(&mut self, rows: usize, rings: usize, cascades: &mut [CascadeSim]) {
+    fn build(
+        &mut self,
+        rows: usize,
+        rings: usize,
+        waves: &WaveParams,
+        cascades: &mut [CascadeSim],
+    ) {
         let n = cascades.first().map_or(0, |c| c.spec.grid.n());
         if !self.model_ready {
-            self.model = SpectrumModel::new(&self.waves);
+            self.model = SpectrumModel::new(waves);
             self.model_ready = true;
             return;
         }
@@ -178,7 +183,7 @@ impl Retune {
             let t = &mut c.tuning;
             if run.octave != c.spec.octave {
                 if let Some(spare) = &mut t.spare {
-                    spare.fill_rows(&self.waves, &run, slice.clone());
+                    spare.fill_rows(waves, &run, slice.clone());
                 }
             }
             let nonzero =
@@ -216,7 +221,13 @@ impl Retune {
     /// rotation) repacked at it: a third of the packing per step with three cascades, and
     /// each cascade's weight still moves by under 1 % per repack at 72 Hz. Ends once every
     /// cascade shows the new state in full.
-    fn blend(&mut self, elapsed: f64, turn: usize, cascades: &mut [CascadeSim]) {
+    fn blend(
+        &mut self,
+        elapsed: f64,
+        turn: usize,
+        waves: &WaveParams,
+        cascades: &mut [CascadeSim],
+    ) {
         self.weight = ease(elapsed / BLEND_SECONDS);
         let w = self.weight as f32;
         let count = cascades.len().max(1);
@@ -239,8 +250,8 @@ impl Retune {
             t.support = t.from_support.clone();
             t.weight = 0.0;
         }
-        self.winds = [self.waves.wind_speed; 2];
-        self.towards = [self.waves.toward(); 2];
+        self.winds = [waves.wind_speed; 2];
+        self.towards = [waves.toward(); 2];
         self.weight = 0.0;
         let shrinks = cascades
             .iter()
@@ -252,14 +263,14 @@ impl Retune {
         };
     }
 
-    fn settle(&mut self, rows: usize, cascades: &mut [CascadeSim]) {
+    fn settle(&mut self, rows: usize, waves: &WaveParams, cascades: &mut [CascadeSim]) {
         let n = cascades.first().map_or(0, |c| c.spec.grid.n());
         let slice = rows..(rows + n.div_ceil(BUILD_STEPS)).min(n);
         for c in cascades.iter_mut() {
             let target = c.tuning.target;
             if target.octave < c.spec.octave {
                 if let Some(spare) = &mut c.tuning.spare {
-                    spare.fill_rows(&self.waves, &target, slice.clone());
+                    spare.fill_rows(waves, &target, slice.clone());
                 }
             }
         }

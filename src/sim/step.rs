@@ -178,7 +178,8 @@ impl SimCore {
             _ => 0.0,
         };
         self.last_time = Some(t);
-        self.retune.advance(dt as f64, &mut self.cascades);
+        self.retune
+            .advance(dt as f64, &self.config.waves, &mut self.cascades);
         let params = SurfaceParams {
             choppiness: waves.choppiness,
             roughness: waves.roughness,
