@@ -1,5 +1,5 @@
 //! `vr-ocean xr` without a usable runtime, and with bad options: a clear error and exit 1, never
-//! a panic or a hang. (Against a real runtime: `tests/openxr_monado.rs`.)
+//! a panic or a hang. (Against a real runtime: `tests/openxr_monado/`.)
 
 use crate::common;
 

@@ -11,17 +11,26 @@
 //!
 //! Every process here runs with a cleared environment plus `PATH` and `HOME=/root`, so nothing
 //! from the host (`VK_*`, `XR_*`, `DISPLAY`, ...) leaks into the root.
+//!
+//! This file is what the tests call: the root, [`Monado`], [`ClientRun`] and the client
+//! functions, the validation layer's environment and report. Behind it: `monado/service.rs`
+//! ([`Monado`]'s methods: the service started, killed, finished), `monado/root.rs` (commands and
+//! files in the root) and `monado/process.rs` (pipes, waits, command lines).
+
+mod process;
+mod root;
+mod service;
 
 use std::fmt;
-use std::fs::{self, File};
-use std::io::Read;
-use std::os::unix::fs::{FileTypeExt, PermissionsExt};
+use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, ExitStatus, Stdio};
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::{Arc, Mutex};
-use std::thread;
+use std::process::{Child, ExitStatus, Stdio};
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
+
+use process::{collect, show, tail, wait_timeout};
+pub use root::runtime_dir_in_root;
+use root::{chroot_command, install_client, prepare_runtime_dir};
 
 /// The environment variable holding the root's path on the host.
 pub const ROOT_ENV: &str = "VR_OCEAN_MONADO_ROOT";
@@ -36,15 +45,6 @@ pub const START_TIMEOUT: Duration = Duration::from_secs(15);
 /// How long [`Monado::finish`] waits for the service to exit by itself (it does once its
 /// client has disconnected: `IPC_EXIT_ON_DISCONNECT=1`) before it sends SIGTERM.
 pub const EXIT_TIMEOUT: Duration = Duration::from_secs(5);
-
-/// The service's socket in its runtime directory.
-const SOCKET: &str = "monado_comp_ipc";
-
-/// The service's log (stdout and stderr) in its runtime directory.
-const SERVICE_LOG: &str = "monado-service.log";
-
-/// `PATH` inside the root (also used to find `chroot` on the host).
-const PATH: &str = "/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin";
 
 /// The root's path from `VR_OCEAN_MONADO_ROOT`. Panics, saying how to get one, when it is unset
 /// or does not hold `monado-service`.
@@ -64,11 +64,6 @@ pub fn root_from_env() -> PathBuf {
         root.display()
     );
     root
-}
-
-/// The runtime directory of the service called `name`, as seen inside the root.
-pub fn runtime_dir_in_root(name: &str) -> String {
-    format!("/run/xrt-{name}")
 }
 
 /// A running `monado-service`; dropping it kills the service if it still runs. It is `Sync`:
@@ -136,210 +131,6 @@ impl fmt::Display for ClientRun {
         )?;
         writeln!(f, "--- stdout (end) ---\n{}", tail(&self.stdout, 60))?;
         write!(f, "--- stderr (end) ---\n{}", tail(&self.stderr, 60))
-    }
-}
-
-impl Monado {
-    /// Starts `monado-service` in `root` with the null compositor, a simulated HMD and simple
-    /// controllers on both hands, runtime directory `/run/xrt-<name>` (mode 700) and
-    /// `IPC_EXIT_ON_DISCONNECT=1`, and waits up to [`START_TIMEOUT`] for its socket. `name`
-    /// (letters, digits, `-`, `_`; at most 40) keeps services and their files apart. Panics with
-    /// the end of the service's log when it exits or times out.
-    pub fn start(root: &Path, name: &str) -> Monado {
-        Self::start_with(root, name, true)
-    }
-
-    /// [`Monado::start`], with `IPC_EXIT_ON_DISCONNECT` only when `exit_on_disconnect` (a
-    /// service for two clients must outlive the first to leave; [`Monado::finish`] then stops
-    /// it with SIGTERM).
-    pub fn start_with(root: &Path, name: &str, exit_on_disconnect: bool) -> Monado {
-        let runtime_dir = prepare_runtime_dir(root, name);
-        let log_path = runtime_dir.join(SERVICE_LOG);
-        let log = File::create(&log_path)
-            .unwrap_or_else(|e| panic!("cannot create {}: {e}", log_path.display()));
-        let log_err = log.try_clone().expect("the log file can be reopened");
-        let mut cmd = chroot_command(root);
-        cmd.envs([
-            ("XRT_COMPOSITOR_NULL", "1"),
-            ("SIMULATED_ENABLE", "1"),
-            ("SIMULATED_LEFT", "simple"),
-            ("SIMULATED_RIGHT", "simple"),
-            ("XRT_NO_STDIN", "1"),
-        ])
-        .envs(exit_on_disconnect.then_some(("IPC_EXIT_ON_DISCONNECT", "1")))
-        .env("XDG_RUNTIME_DIR", runtime_dir_in_root(name))
-        .arg("monado-service")
-        .stdin(Stdio::null())
-        .stdout(log)
-        .stderr(log_err);
-        eprintln!("monado: starting: {}", show(&cmd));
-        let start = Instant::now();
-        let child = cmd
-            .spawn()
-            .unwrap_or_else(|e| panic!("cannot start `{}`: {e}", show(&cmd)));
-        let mut service = Monado {
-            root: root.to_path_buf(),
-            name: name.to_owned(),
-            runtime_dir,
-            log_path,
-            child: Mutex::new(Some(child)),
-            killed: Mutex::new(None),
-            startup: Duration::ZERO,
-        };
-        let socket = service.runtime_dir.join(SOCKET);
-        loop {
-            if is_socket(&socket) {
-                break;
-            }
-            let mut slot = service.child.lock().expect("child lock");
-            let child = slot.as_mut().expect("running");
-            if let Some(status) = child.try_wait().expect("try_wait on monado-service") {
-                *slot = None;
-                drop(slot);
-                panic!(
-                    "monado-service `{name}` exited before its socket appeared ({status}); the \
-                     end of {}:\n{}",
-                    service.log_path.display(),
-                    tail(&service.log(), 40)
-                );
-            }
-            if start.elapsed() > START_TIMEOUT {
-                let _ = child.kill();
-                let _ = child.wait();
-                *slot = None;
-                drop(slot);
-                panic!(
-                    "monado-service `{name}`: no socket {} after {START_TIMEOUT:?}; the end of \
-                     {}:\n{}",
-                    socket.display(),
-                    service.log_path.display(),
-                    tail(&service.log(), 40)
-                );
-            }
-            drop(slot);
-            thread::sleep(Duration::from_millis(20));
-        }
-        service.startup = start.elapsed();
-        eprintln!(
-            "monado: service `{name}` up in {:.2} s (log: {})",
-            service.startup.as_secs_f64(),
-            service.log_path.display()
-        );
-        service
-    }
-
-    /// Seconds from spawning the service to its socket appearing.
-    pub fn startup_seconds(&self) -> f64 {
-        self.startup.as_secs_f64()
-    }
-
-    /// The service's log file on the host.
-    pub fn log_path(&self) -> &Path {
-        &self.log_path
-    }
-
-    /// The service's log so far.
-    pub fn log(&self) -> String {
-        fs::read_to_string(&self.log_path).unwrap_or_default()
-    }
-
-    /// The service's process id (of `monado-service` itself: `chroot` execs it), while it runs.
-    pub fn pid(&self) -> Option<u32> {
-        self.child
-            .lock()
-            .expect("child lock")
-            .as_ref()
-            .map(Child::id)
-    }
-
-    /// Runs `exe` (a host path; copied to `<root>/xr/`) with `args` in the root, connected to
-    /// this service. The environment is `XDG_RUNTIME_DIR`, `XDG_CONFIG_HOME` (a fresh one: the
-    /// default settings), `XR_RUNTIME_JSON`, `RUST_LOG=info` (each unless `env` sets it) and
-    /// `env`. stdout and stderr are collected; the client is
-    /// killed after `timeout`. When `env` names an `XR_CORE_VALIDATION_FILE_NAME`, a stale file
-    /// of that name is deleted first (the layer appends).
-    pub fn client(
-        &self,
-        exe: &Path,
-        args: &[&str],
-        env: &[(&str, &str)],
-        timeout: Duration,
-    ) -> ClientRun {
-        run_client(&self.root, &self.name, exe, args, env, timeout)
-    }
-
-    /// Kills the service with SIGKILL now (and reaps it), as a crash would: its clients see
-    /// `XR_ERROR_INSTANCE_LOST`. Takes `&self` so that it can be called while a client runs on
-    /// another thread. [`Monado::finish`] then reports `stopped_by: Some("SIGKILL")`.
-    pub fn kill_service(&self) {
-        if let Some(mut child) = self.child.lock().expect("child lock").take() {
-            let _ = child.kill();
-            let status = child.wait().expect("wait on monado-service");
-            *self.killed.lock().expect("killed lock") = Some(status);
-            eprintln!("monado: service `{}` killed (SIGKILL)", self.name);
-        }
-    }
-
-    /// Waits up to [`EXIT_TIMEOUT`] for the service to exit by itself (it does after its client
-    /// disconnected), then sends SIGTERM and waits as long again, then SIGKILL. Returns how it
-    /// ended and its log.
-    pub fn finish(self) -> ServiceExit {
-        let child = self.child.lock().expect("child lock").take();
-        let (status, stopped_by) = match child {
-            None => {
-                let killed = *self.killed.lock().expect("killed lock");
-                (killed.expect("killed or running"), Some("SIGKILL"))
-            }
-            Some(mut child) => {
-                if let Some(status) = wait_timeout(&mut child, EXIT_TIMEOUT) {
-                    (status, None)
-                } else {
-                    let _ = Command::new("kill")
-                        .args(["-TERM", &child.id().to_string()])
-                        .status();
-                    if let Some(status) = wait_timeout(&mut child, EXIT_TIMEOUT) {
-                        (status, Some("SIGTERM"))
-                    } else {
-                        let _ = child.kill();
-                        (
-                            child.wait().expect("wait on monado-service"),
-                            Some("SIGKILL"),
-                        )
-                    }
-                }
-            }
-        };
-        eprintln!(
-            "monado: service `{}` ended: {status}{}",
-            self.name,
-            stopped_by.map_or(String::new(), |s| format!(" (after {s})"))
-        );
-        ServiceExit {
-            status: status.code(),
-            stopped_by,
-            log: self.log(),
-        }
-    }
-}
-
-impl Drop for Monado {
-    fn drop(&mut self) {
-        let child = match self.child.get_mut() {
-            Ok(slot) => slot.take(),
-            Err(poisoned) => poisoned.into_inner().take(),
-        };
-        if let Some(mut child) = child {
-            let _ = child.kill();
-            let _ = child.wait();
-            eprintln!("monado: service `{}` killed on drop", self.name);
-        }
-        if thread::panicking() {
-            eprintln!(
-                "monado: the end of {}:\n{}",
-                self.log_path.display(),
-                tail(&self.log(), 40)
-            );
-        }
     }
 }
 
@@ -424,65 +215,6 @@ fn validation_problems(text: &str) -> Vec<String> {
     messages
 }
 
-// ---------------------------------------------------------------------------------------------
-
-/// `chroot <root>` with a cleared environment plus `PATH` and `HOME`.
-fn chroot_command(root: &Path) -> Command {
-    let mut cmd = Command::new("chroot");
-    cmd.env_clear()
-        .env("PATH", PATH)
-        .env("HOME", "/root")
-        .arg(root);
-    cmd
-}
-
-/// Creates `<root>/run/xrt-<name>` (mode 700) and deletes a stale socket in it; returns it.
-fn prepare_runtime_dir(root: &Path, name: &str) -> PathBuf {
-    assert!(
-        !name.is_empty()
-            && name.len() <= 40
-            && name
-                .chars()
-                .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_'),
-        "service name {name:?}: use 1 to 40 letters, digits, `-` or `_` (it is part of the \
-         socket path, which must fit in 108 bytes)"
-    );
-    let dir = root.join(runtime_dir_in_root(name).trim_start_matches('/'));
-    fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("cannot create {}: {e}", dir.display()));
-    fs::set_permissions(&dir, fs::Permissions::from_mode(0o700))
-        .unwrap_or_else(|e| panic!("cannot chmod {}: {e}", dir.display()));
-    let socket = dir.join(SOCKET);
-    if fs::symlink_metadata(&socket).is_ok() {
-        fs::remove_file(&socket)
-            .unwrap_or_else(|e| panic!("cannot remove {}: {e}", socket.display()));
-    }
-    dir
-}
-
-fn is_socket(path: &Path) -> bool {
-    fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_socket())
-}
-
-/// Copies `exe` to `<root>/xr/<file name>` (through a temporary name and a rename, so a copy
-/// still running elsewhere keeps its file); returns its path inside the root.
-fn install_client(root: &Path, exe: &Path) -> String {
-    let file = exe
-        .file_name()
-        .unwrap_or_else(|| panic!("{} has no file name", exe.display()))
-        .to_string_lossy()
-        .into_owned();
-    let dir = root.join("xr");
-    fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("cannot create {}: {e}", dir.display()));
-    // Unique per call: clients may be installed from several threads at once.
-    static COPIES: AtomicUsize = AtomicUsize::new(0);
-    let copy = COPIES.fetch_add(1, Ordering::Relaxed);
-    let tmp = dir.join(format!(".{file}.{}.{copy}", std::process::id()));
-    fs::copy(exe, &tmp)
-        .unwrap_or_else(|e| panic!("cannot copy {} to {}: {e}", exe.display(), tmp.display()));
-    fs::rename(&tmp, dir.join(&file)).expect("rename the client into place");
-    format!("/xr/{file}")
-}
-
 /// [`Monado::client`] by the service's name, without holding the service (a client that
 /// outlives the service it started with: the soak's, across a killed and restarted runtime).
 #[allow(dead_code)]
@@ -555,71 +287,4 @@ pub fn run_client(
         stderr,
         seconds,
     }
-}
-
-/// A pipe being read into memory on a thread.
-struct Collector {
-    buf: Arc<Mutex<Vec<u8>>>,
-    thread: thread::JoinHandle<()>,
-}
-
-fn collect(mut pipe: impl Read + Send + 'static) -> Collector {
-    let buf = Arc::new(Mutex::new(Vec::new()));
-    let sink = Arc::clone(&buf);
-    let thread = thread::spawn(move || {
-        let mut chunk = [0u8; 8192];
-        while let Ok(n) = pipe.read(&mut chunk) {
-            if n == 0 {
-                break;
-            }
-            sink.lock()
-                .expect("collector lock")
-                .extend_from_slice(&chunk[..n]);
-        }
-    });
-    Collector { buf, thread }
-}
-
-impl Collector {
-    /// What was read, once the pipe closed or at most 2 s after the process exited.
-    fn finish(self) -> String {
-        let deadline = Instant::now() + Duration::from_secs(2);
-        while !self.thread.is_finished() && Instant::now() < deadline {
-            thread::sleep(Duration::from_millis(10));
-        }
-        let bytes = self.buf.lock().expect("collector lock").clone();
-        String::from_utf8_lossy(&bytes).into_owned()
-    }
-}
-
-/// Waits for `child` up to `timeout`; `None` when it still runs.
-fn wait_timeout(child: &mut Child, timeout: Duration) -> Option<ExitStatus> {
-    let deadline = Instant::now() + timeout;
-    loop {
-        if let Some(status) = child.try_wait().expect("try_wait") {
-            return Some(status);
-        }
-        if Instant::now() >= deadline {
-            return None;
-        }
-        thread::sleep(Duration::from_millis(10));
-    }
-}
-
-/// The command line with its environment, as `env -i K=V ... cmd args` (to rerun by hand).
-fn show(cmd: &Command) -> String {
-    let mut parts = vec!["env -i".to_owned()];
-    for (k, v) in cmd.get_envs() {
-        if let Some(v) = v {
-            parts.push(format!("{}={}", k.to_string_lossy(), v.to_string_lossy()));
-        }
-    }
-    parts.push(cmd.get_program().to_string_lossy().into_owned());
-    parts.extend(cmd.get_args().map(|a| a.to_string_lossy().into_owned()));
-    parts.join(" ")
-}
-
-fn tail(text: &str, lines: usize) -> String {
-    let all: Vec<&str> = text.lines().collect();
-    all[all.len().saturating_sub(lines)..].join("\n")
 }

@@ -44,7 +44,7 @@ impl Swell {
         let (kx, _) = spectrum::wave_vector(col, row, grid, patch);
         let harmonic = dispersion::loop_harmonic(dispersion::omega(kx.abs(), None), period);
         // h₀(k) = a/2 at k and its conjugate at −k: h = a·cos(k·x − ωt). The packing
-        // S' = (a + c, b + d, b − d, c − a) follows tests/sim/physics.rs.
+        // S' = (a + c, b + d, b − d, c − a) follows tests/sim/waves.rs.
         let mut s: [AlignedBuf; 4] = std::array::from_fn(|_| AlignedBuf::zeros(grid.texels()));
         let i = row * n + col;
         let m = ((n - row) & (n - 1)) * n + ((n - col) & (n - 1));

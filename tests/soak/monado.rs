@@ -17,7 +17,7 @@
 //!
 //! `M` is `VR_OCEAN_SOAK_MINUTES` (default 5: three sessions of 100 s, the `openxr (Monado)`
 //! step of `cargo xtask test`), the losses `VR_OCEAN_SOAK_LOSSES` (default 2);
-//! `cargo xtask soak` runs 20. Needs root and the Monado root, like `tests/openxr_monado.rs`.
+//! `cargo xtask soak` runs 20. Needs root and the Monado root, like `tests/openxr_monado/`.
 
 use crate::common;
 

@@ -53,10 +53,11 @@ commands:
           cargo clippy --target aarch64-linux-android --lib -- -D warnings
           cargo test --workspace
           cargo test --test frame_times -- --nocapture
-          cargo test --test openxr_monado --test openxr_no_alloc -- --ignored --nocapture
+          cargo test --test openxr_monado --test openxr_no_alloc --test render --test soak
+              -- --ignored --nocapture
               --test-threads=1 (needs root: first makes sure the Monado root exists, see monado-root,
               and passes its path in VR_OCEAN_MONADO_ROOT)
-          cargo test --no-default-features --lib --test sim_physics --test sim_derivatives
+          cargo test --no-default-features --lib --test sim
               --target aarch64-unknown-linux-gnu   (qemu)
           cargo xtask apk-check
         --quick      skip the slow steps (frame times, Monado, APK, aarch64)
@@ -100,7 +101,8 @@ commands:
         debootstrap (about 100 s) when missing or when its package list changed. Run the
         OpenXR tests by hand with:
           export VR_OCEAN_MONADO_ROOT=$(cargo xtask monado-root)
-          cargo test --test openxr_monado --test openxr_no_alloc -- --ignored --nocapture --test-threads=1
+          cargo test --test openxr_monado --test openxr_no_alloc --test render --test soak
+              -- --ignored --nocapture --test-threads=1
   apk [--release] [--openxr-loader PATH] [--verify-without-ndk]
         The Quest APK: needs ANDROID_NDK_HOME (NDK r23+) and ANDROID_HOME or
         ANDROID_SDK_ROOT (build-tools, a platform >= 29), and the Khronos OpenXR loader:

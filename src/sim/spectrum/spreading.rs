@@ -13,7 +13,7 @@
 //! waves, which carry the slopes, into streaks along the wind: the resolved sea's along/across
 //! slope-variance ratio was 9.3 at every scale where Cox & Munk measured about 1.4 at 10 m/s.
 //! With s(ω) the short waves are close to isotropic and the ratio lands near Cox & Munk's
-//! (`tests/sim/physics.rs`). The thesis's spread stays for `--spectrum phillips`.
+//! (`tests/sim/spectrum.rs`). The thesis's spread stays for `--spectrum phillips`.
 
 use crate::sim::dispersion::GRAVITY;
 

@@ -73,6 +73,11 @@ pub fn check(result: xr::sys::Result) -> Result<(), xr::sys::Result> {
     }
 }
 
+/// Why the backend could not start or stopped: a message that says what to install or check.
+pub(super) fn backend(msg: impl Into<String>) -> XrError {
+    XrError::Backend(msg.into())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -97,9 +102,4 @@ mod tests {
         assert!(check(xr::sys::Result::SESSION_LOSS_PENDING).is_ok());
         assert!(check(xr::sys::Result::ERROR_VALIDATION_FAILURE).is_err());
     }
-}
-
-/// Why the backend could not start or stopped: a message that says what to install or check.
-pub(super) fn backend(msg: impl Into<String>) -> XrError {
-    XrError::Backend(msg.into())
 }
