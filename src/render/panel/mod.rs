@@ -247,7 +247,7 @@ impl PanelPainter {
             old.destroy(ctx);
         }
         let mut offset = 0;
-        for (id, delta) in &textures.set {
+        for change in &textures.set {
             let sets = TextureSets {
                 pool: self.pool,
                 set_layout: self.set_layout,
@@ -255,7 +255,7 @@ impl PanelPainter {
             };
             offset = self
                 .textures
-                .upload(ctx, cmd, sets, &mut self.staging, *id, delta, offset)?;
+                .upload(ctx, cmd, sets, &mut self.staging, change, offset)?;
         }
         let (vertex_count, index_count) =
             primitives

@@ -59,20 +59,20 @@ impl PanelTextures {
         }
     }
 
-    /// Uploads one egui texture change through `staging` from byte `offset`: a new texture (or
-    /// a whole replacement), or a patch of an existing one (the font atlas growing). Returns
-    /// where the next upload's bytes go.
-    #[allow(clippy::too_many_arguments)]
+    /// Uploads one egui texture change (`id` and its delta, as `TexturesDelta::set` lists
+    /// them) through `staging` from byte `offset`: a new texture (or a whole replacement), or a
+    /// patch of an existing one (the font atlas growing). Returns where the next upload's bytes
+    /// go.
     pub fn upload(
         &mut self,
         ctx: &GpuContext,
         cmd: vk::CommandBuffer,
         sets: TextureSets,
         staging: &mut Buffer,
-        id: egui::TextureId,
-        delta: &egui::epaint::ImageDelta,
+        (id, delta): &(egui::TextureId, egui::epaint::ImageDelta),
         offset: u64,
     ) -> Result<u64, RenderError> {
+        let id = *id;
         let egui::ImageData::Color(image) = &delta.image;
         let [w, h] = image.size;
         let extent = vk::Extent2D {
