@@ -28,6 +28,6 @@ render midday        --wind 10 --sun-elevation 60 --sun-azimuth 30   --turbidity
 render fresh_low_sun --wind 14 --sun-elevation 12 --sun-azimuth -60  --turbidity 2.2
 render gale          --wind 20 --sun-elevation 35 --sun-azimuth 120  --turbidity 10 --clouds 1
 render broken_cloud  --wind 12 --sun-elevation 40 --sun-azimuth -150 --turbidity 2.5 --clouds 0.5
-render sunset        --wind 6  --sun-elevation 1.5 --sun-azimuth -90 --turbidity 4 --fetch 1000
+render sunset        --wind 6  --sun-elevation 1.5 --sun-azimuth -90 --turbidity 2.5 --fetch 1000
 render under         --wind 5  --sun-elevation 60 --sun-azimuth -120 --turbidity 2.5
 render waterline     --wind 2.5 --sun-elevation 25 --sun-azimuth -120 --turbidity 2.5

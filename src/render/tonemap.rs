@@ -30,6 +30,39 @@ pub fn pbr_neutral(c: Vec3) -> Vec3 {
     c.lerp(Vec3::splat(new_peak), grey)
 }
 
+/// The inverse of [`pbr_neutral`]: a display value (linear, in [0, 1)) back to the exposed
+/// radiance the shader tone-mapped, to measure light in rendered images (a sunset's glitter is
+/// compressed by the knee; its ratio to the water beside it is a ratio of radiance). Exact but
+/// for rounding; ill-conditioned near white, where 8-bit codes no longer tell radiances apart:
+/// a peak at or above `1 - 1e-4` is refused (`None`).
+pub fn pbr_neutral_inverse(display: Vec3) -> Option<Vec3> {
+    let new_peak = display.max_element();
+    if !(0.0..1.0 - 1e-4).contains(&new_peak) || display.min_element() < 0.0 {
+        return None;
+    }
+    let d = 1.0 - START;
+    let shifted = if new_peak < START {
+        display
+    } else {
+        // The peak before compression, the grey it was mixed with, then the mix undone.
+        let peak = d * d / (1.0 - new_peak) - d + START;
+        let grey = 1.0 - 1.0 / (DESATURATION * (peak - new_peak) + 1.0);
+        // (A channel that rounding put under the grey it was mixed with is taken as none.)
+        ((display - Vec3::splat(grey * new_peak)) / (1.0 - grey) * (peak / new_peak))
+            .max(Vec3::ZERO)
+    };
+    // The toe: the offset is x − 6.25 x² for the smallest channel x < 0.08, which leaves it at
+    // 6.25 x² (< 0.04); else 0.04.
+    let y = shifted.min_element();
+    let offset = if y < 0.04 {
+        let x = (y / 6.25).sqrt();
+        x - y
+    } else {
+        0.04
+    };
+    Some(shifted + Vec3::splat(offset))
+}
+
 /// The sRGB transfer function (IEC 61966-2-1) the target applies on store: linear [0, 1] to
 /// encoded [0, 1].
 pub fn srgb_encode(linear: f32) -> f32 {
@@ -80,6 +113,26 @@ mod tests {
         // grey (unmapped, it would clip to 1, 1, 1 only by losing its hue at the clip).
         let c = pbr_neutral(Vec3::new(40.0, 20.0, 10.0));
         assert!(c.max_element() <= 1.0 && c.min_element() > 0.88, "{c}");
+    }
+
+    #[test]
+    fn the_inverse_curve_gives_back_the_radiance() {
+        for c in [
+            Vec3::new(0.01, 0.02, 0.005),
+            Vec3::new(0.3, 0.2, 0.1),
+            Vec3::new(0.9, 0.5, 0.2),
+            Vec3::new(3.0, 1.5, 0.4),
+            Vec3::new(12.0, 9.0, 7.0),
+        ] {
+            let back = pbr_neutral_inverse(pbr_neutral(c)).expect("below white");
+            assert!(
+                (back - c).abs().max_element() < 2e-3 * c.max_element().max(1.0),
+                "{c} -> {back}"
+            );
+        }
+        // White and out-of-range values are refused, not guessed.
+        assert_eq!(pbr_neutral_inverse(Vec3::ONE), None);
+        assert_eq!(pbr_neutral_inverse(Vec3::new(0.5, -0.1, 0.2)), None);
     }
 
     #[test]
