@@ -73,18 +73,12 @@ float morph_factor(vec2 r, float d) {
 // when both are even; -1 along the odd axis when one is odd; when both are odd, along the
 // parent's fan diagonal: (-1, -1) if (i + j) & 3 == 2, else (-1, +1). Two's-complement `&` and
 // arithmetic `>>` on int, as in Rust.
+// Without branches (selects): -1 along each odd axis gives the first three cases and
+// (-1, -1); the fourth's other diagonal is a select.
 vec2 morph_step(ivec2 ij) {
     ivec2 odd = ij & 1;
-    if (odd.x == 0 && odd.y == 0) {
-        return vec2(0.0);
-    }
-    if (odd.y == 0) {
-        return vec2(-1.0, 0.0);
-    }
-    if (odd.x == 0) {
-        return vec2(0.0, -1.0);
-    }
-    return ((ij.x + ij.y) & 3) == 2 ? vec2(-1.0, -1.0) : vec2(-1.0, 1.0);
+    bool other_diagonal = (odd.x & odd.y) == 1 && ((ij.x + ij.y) & 3) != 2;
+    return other_diagonal ? vec2(-1.0, 1.0) : -vec2(odd);
 }
 
 vec4 ocean_vertex(uint eye);
@@ -132,9 +126,8 @@ vec4 ocean_vertex(uint eye) {
             || (ij.y == n && (i_stitch & NORTH) != 0u)
             || (ij.x == 0 && (i_stitch & WEST) != 0u)
             || (ij.y == 0 && (i_stitch & SOUTH) != 0u);
-        if (stitched) {
-            p += 2.0 * h * morph_factor(i_coarse_morph, d) * morph_step(ij >> 1);
-        }
+        // A select, not a branch: the vertex shader's work stays one straight line.
+        p += (stitched ? 2.0 * h * morph_factor(i_coarse_morph, d) : 0.0) * morph_step(ij >> 1);
     } else {
         p0 = i_centre + a_pos.xz;
         v_cell = i_vertex_spacing;
@@ -154,10 +147,8 @@ vec4 ocean_vertex(uint eye) {
     float half_texel = g.derived.z;
     UNROLL for (int c = 0; c < cascades; ++c) {
         float fade = 1.0 - smoothstep(g.fade_start[c], g.fade_end[c], d);
-        if (fade > 0.0) {
-            vec2 uv = p * g.inv_patch_size[c] + half_texel;
-            disp += fade * textureLod(u_displacement, vec3(uv, float(c)), 0.0).xyz;
-        }
+        vec2 uv = p * g.inv_patch_size[c] + half_texel;
+        disp += fade * textureLod(u_displacement, vec3(uv, float(c)), 0.0).xyz;
     }
     // The interaction layer's waves (rings, wakes), faded from the mesh like a cascade.
     disp.y += (1.0 - smoothstep(g.interaction_fade.x, g.interaction_fade.y, d))
