@@ -188,9 +188,9 @@ fn a_low_sun_lays_a_glitter_column_on_the_water() {
                 "no glitter column: {column} vs {sides:?} 15° to the sides"
             );
             // The sky brightest toward the sun at every height down to the horizon.
-            for e in [0.3f32, 1.0, 2.0, 3.0, 6.0] {
-                if (e - elevation).abs() < 0.5 {
-                    continue; // the sun's disc
+            for e in [0.3f32, 0.6, 1.0, 2.5, 3.0, 6.0] {
+                if (e - elevation).abs() < 0.8 {
+                    continue; // the sun's disc (0.27° in radius) would count toward it
                 }
                 let toward = patch(-90.0, e - 0.2, e + 0.2);
                 for a in [-120.0, -105.0, -75.0, -60.0] {
