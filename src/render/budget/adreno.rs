@@ -87,7 +87,8 @@ impl std::error::Error for AdrenoError {}
 
 /// The water paths of a headset's pipelines (`render::budget::paths::headset_pipelines`, built on
 /// turnip): each path's fragment shader, then the drawn ocean pipeline's fragment (`pipeline`)
-/// and vertex (`vertex`) shaders.
+/// and vertex (`vertex`) shaders, and its binning pass's vertex shader (`binning`) where the
+/// driver reports one.
 pub fn water_paths(pipelines: &[PipelineStatistics]) -> Result<Vec<AdrenoPath>, AdrenoError> {
     let stage = |label: &str, stage: &str| -> Result<ShaderStats, AdrenoError> {
         let p = pipelines
@@ -123,6 +124,23 @@ pub fn water_paths(pipelines: &[PipelineStatistics]) -> Result<Vec<AdrenoPath>, 
         path: "vertex".into(),
         stats: stage(drawn, "vertex")?,
     });
+    // The tiler's binning pass runs a vertex shader of its own (the position alone; turnip
+    // reports it as "Binning VS"): where the driver reports it, its own statistics.
+    let binning = pipelines
+        .iter()
+        .find(|p| p.label == drawn)
+        .and_then(|p| {
+            p.executables
+                .iter()
+                .find(|e| e.stage == "vertex" && e.name.contains("Binning"))
+        })
+        .and_then(ShaderStats::of);
+    if let Some(stats) = binning {
+        out.push(AdrenoPath {
+            path: "binning".into(),
+            stats,
+        });
+    }
     Ok(out)
 }
 
@@ -188,6 +206,18 @@ mod tests {
         let paths = water_paths(&pipelines).unwrap();
         assert_eq!(paths.len(), WATER_PATHS.len() + 2);
         assert_eq!(paths.last().unwrap().stats.instructions, 576);
+        // The binning pass's vertex shader, after the drawn one, where turnip lists it.
+        let mut binning = turnip_exe("vertex", 498);
+        binning.name = "Binning VS".into();
+        pipelines.last_mut().unwrap().executables.push(binning);
+        let paths = water_paths(&pipelines).unwrap();
+        assert_eq!(paths.len(), WATER_PATHS.len() + 3);
+        let last = paths.last().unwrap();
+        assert_eq!(
+            (last.path.as_str(), last.stats.instructions),
+            ("binning", 498)
+        );
+        assert_eq!(paths[paths.len() - 2].stats.instructions, 576);
         // Another driver's statistics are not ir3's.
         let mut other = turnip_exe("fragment", 10);
         other.statistics.retain(|s| s.name != "Max Waves Per Core");

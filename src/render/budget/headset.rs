@@ -8,7 +8,7 @@
 //!                                             tests and resolves on the tile)
 //!   + fragments / pixel rate                 (the render back-ends)
 //!   + triangles · 2 / triangle rate          (set-up, binning pass and drawing pass)
-//!   + vertices · (binning + drawing VS slots) / ALU rate
+//!   + vertices · (binning + drawing VS slots) / ALU rate  (each as ir3 compiled it)
 //!   + max(A, X)                              (shading: a GPU's waves hide the smaller, κ = 0
 //!                                             as measured; branches no lane of a wave takes
 //!                                             skipped, σ = 0 as measured)
@@ -126,9 +126,11 @@ pub fn adreno_estimate(
     let store_s = pixels * 4.0 / gpu.bytes_per_s;
     let fragments_s = kept * n(counts.tallied()) / gpu.pixels_per_s;
     let triangles_s = 2.0 * n(counts.clipped_primitives) / gpu.triangles_per_s;
-    // The binning pass runs its own (position-only) vertex shader, about as long as the
-    // drawing pass's: both counted with the drawn one's slots.
-    let vertex_s = 2.0 * n(counts.vertex_invocations) * slots(vertex) / gpu.alu_per_s;
+    // The binning pass runs its own (position-only) vertex shader: ir3's statistics of it
+    // where turnip reports them, else taken as long as the drawing pass's (reports recorded
+    // before it was read).
+    let binning = get("binning").unwrap_or(vertex);
+    let vertex_s = n(counts.vertex_invocations) * (slots(vertex) + slots(binning)) / gpu.alu_per_s;
     let ms = 1e3 * (store_s + fragments_s + triangles_s + vertex_s + alu_s.max(texture_s));
     Some(AdrenoEstimate {
         ms,
@@ -188,5 +190,24 @@ mod tests {
         q3.foveation = QUEST_2.foveation;
         assert!(adreno_estimate(&q3, &counts, &paths(500)).unwrap().alu_ms < small.alu_ms);
         assert!(adreno_estimate(&QUEST_2, &counts, &paths(500)[1..]).is_none());
+        // A binning pass's vertex shader of its own, shorter than the drawn one: less vertex
+        // time, by its slots; without it, the drawn one's counted twice.
+        let mut with_binning = paths(500);
+        with_binning.push(AdrenoPath {
+            path: "binning".into(),
+            stats: ShaderStats {
+                instructions: 300,
+                special: 10,
+                ..Default::default()
+            },
+        });
+        let binned = adreno_estimate(&QUEST_2, &counts, &with_binning).unwrap();
+        let by_hand = 1e3 * 100_000.0 * ((500.0 + 30.0) + (300.0 + 30.0)) / (512.0 * 490e6);
+        assert!(
+            (binned.vertex_ms - by_hand).abs() < 1e-9,
+            "{}",
+            binned.vertex_ms
+        );
+        assert!(binned.vertex_ms < small.vertex_ms);
     }
 }
