@@ -76,13 +76,6 @@ pub struct PipelineStatistics {
     pub executables: Vec<Executable>,
 }
 
-impl PipelineStatistics {
-    /// The executable of `stage` ("vertex", "fragment").
-    pub fn stage(&self, stage: &str) -> Option<&Executable> {
-        self.executables.iter().find(|e| e.stage == stage)
-    }
-}
-
 /// The statistics of every pipeline made while the context captured them.
 #[derive(Debug, Default)]
 pub struct StatisticsLog {

@@ -11,13 +11,14 @@ use crate::common;
 
 use common::gpu::{self, Frame};
 use glam::Vec3;
+use vr_ocean::app::RunOptions;
 use vr_ocean::render::camera::project_to_pixel;
 use vr_ocean::render::sky::SunSky;
 use vr_ocean::render::tonemap::srgb_decode;
 use vr_ocean::render::{Msaa, StereoMode};
 
+/// The side (px) of `render`'s square eye images.
 const W: u32 = 240;
-const H: u32 = 240;
 
 fn linear_rgb(p: [u8; 4]) -> Vec3 {
     Vec3::new(srgb_decode(p[0]), srgb_decode(p[1]), srgb_decode(p[2]))
@@ -32,17 +33,28 @@ fn saturation(c: Vec3) -> f32 {
     1.0 - c.min_element() / c.max_element().max(1e-6)
 }
 
-fn render(sun: SunSky, wind: f32, yaw: f32, pitch: f32, name: &str) -> Frame {
+/// The small scene at MSAA 1 under `sun` with `wind` (m/s).
+fn options(sun: SunSky, wind: f32) -> RunOptions {
     let mut opts = gpu::small_options(StereoMode::Multiview, vec![41]);
     opts.renderer.msaa = Msaa::X1;
     opts.ocean.waves.wind_speed = wind;
     opts.renderer.sun = sun;
-    let (_, mut frames) = gpu::render(&opts, gpu::standing(4.5, yaw, pitch), 42, W, H);
+    opts
+}
+
+/// One frame of `opts`, 4.5 m up looking along `yaw`/`pitch`, `side` px square per eye (saved
+/// as `name` with VR_OCEAN_SAVE_FRAMES).
+fn capture(opts: &RunOptions, yaw: f32, pitch: f32, side: u32, name: &str) -> Frame {
+    let (_, mut frames) = gpu::render(opts, gpu::standing(4.5, yaw, pitch), 42, side, side);
     let f = frames.pop().expect("one capture");
     if std::env::var_os("VR_OCEAN_SAVE_FRAMES").is_some() {
         println!("saved {}", f.save(name).display());
     }
     f
+}
+
+fn render(sun: SunSky, wind: f32, yaw: f32, pitch: f32, name: &str) -> Frame {
+    capture(&options(sun, wind), yaw, pitch, W, name)
 }
 
 /// The image point of the direction `elevation_deg` above the horizon at `azimuth_deg` (the
@@ -62,8 +74,8 @@ fn band(f: &Frame, eye: usize, azimuth: f32, from: f32, to: f32) -> Vec3 {
     let row = |e: f32| pixel_of(f, eye, e, azimuth).expect("in view").1;
     let (r0, r1) = (row(from).min(row(to)), row(from).max(row(to)));
     let (mut sum, mut n) = (Vec3::ZERO, 0);
-    for y in r0.ceil() as u32..=(r1.floor() as u32).min(H - 1) {
-        for x in W / 10..W * 9 / 10 {
+    for y in r0.ceil() as u32..=(r1.floor() as u32).min(f.height - 1) {
+        for x in f.width / 10..f.width * 9 / 10 {
             sum += linear_rgb(f.pixel(eye, x, y));
             n += 1;
         }
@@ -136,19 +148,9 @@ fn a_low_sun_lays_a_glitter_column_on_the_water() {
             turbidity: 2.5,
             clouds: 0.0,
         };
-        let mut opts = gpu::small_options(StereoMode::Multiview, vec![41]);
-        opts.renderer.msaa = Msaa::X1;
+        let mut opts = options(sun, 6.0);
         opts.renderer.supersampling = false;
-        opts.ocean.waves.wind_speed = 6.0;
-        opts.renderer.sun = sun;
-        let (_, mut frames) = gpu::render(&opts, gpu::standing(4.5, 0.0, -4.0), 42, SIDE, SIDE);
-        let f = frames.pop().expect("one capture");
-        if std::env::var_os("VR_OCEAN_SAVE_FRAMES").is_some() {
-            println!(
-                "saved {}",
-                f.save(&format!("glitter-{elevation}")).display()
-            );
-        }
+        let f = capture(&opts, 0.0, -4.0, SIDE, &format!("glitter-{elevation}"));
         for eye in 0..2 {
             // Mean radiance over rows `from`..`to` degrees of elevation, ±0.4° around `azimuth`.
             let patch = |azimuth: f32, from: f32, to: f32| {

@@ -85,20 +85,28 @@ impl std::fmt::Display for AdrenoError {
 
 impl std::error::Error for AdrenoError {}
 
+/// What turnip's name for the binning pass's variant of a vertex shader contains ("Binning VS").
+const BINNING: &str = "Binning";
+
 /// The water paths of a headset's pipelines (`render::budget::paths::headset_pipelines`, built on
 /// turnip): each path's fragment shader, then the drawn ocean pipeline's fragment (`pipeline`)
 /// and vertex (`vertex`) shaders, and its binning pass's vertex shader (`binning`) where the
 /// driver reports one.
 pub fn water_paths(pipelines: &[PipelineStatistics]) -> Result<Vec<AdrenoPath>, AdrenoError> {
-    let stage = |label: &str, stage: &str| -> Result<ShaderStats, AdrenoError> {
+    // `label`'s executable of `stage`: the binning pass's variant (turnip's "Binning VS") or
+    // the drawn one, whichever the driver lists first.
+    let find = |label: &str, stage: &str, binning: bool| -> Result<&Executable, AdrenoError> {
         let p = pipelines
             .iter()
             .find(|p| p.label == label)
             .ok_or_else(|| AdrenoError(format!("no pipeline {label:?} in the statistics")))?;
-        let exe = p
-            .stage(stage)
-            .ok_or_else(|| AdrenoError(format!("{label:?} has no {stage} shader")))?;
-        ShaderStats::of(exe).ok_or_else(|| {
+        p.executables
+            .iter()
+            .find(|e| e.stage == stage && e.name.contains(BINNING) == binning)
+            .ok_or_else(|| AdrenoError(format!("{label:?} has no {stage} shader")))
+    };
+    let stage = |label: &str, stage: &str| -> Result<ShaderStats, AdrenoError> {
+        ShaderStats::of(find(label, stage, false)?).ok_or_else(|| {
             AdrenoError(format!(
                 "{label:?}'s {stage} shader has no ir3 statistics (not turnip's driver?)"
             ))
@@ -124,18 +132,9 @@ pub fn water_paths(pipelines: &[PipelineStatistics]) -> Result<Vec<AdrenoPath>, 
         path: "vertex".into(),
         stats: stage(drawn, "vertex")?,
     });
-    // The tiler's binning pass runs a vertex shader of its own (the position alone; turnip
-    // reports it as "Binning VS"): where the driver reports it, its own statistics.
-    let binning = pipelines
-        .iter()
-        .find(|p| p.label == drawn)
-        .and_then(|p| {
-            p.executables
-                .iter()
-                .find(|e| e.stage == "vertex" && e.name.contains("Binning"))
-        })
-        .and_then(ShaderStats::of);
-    if let Some(stats) = binning {
+    // The tiler's binning pass runs a vertex shader of its own (the position alone): where the
+    // driver reports it, its own statistics.
+    if let Some(stats) = find(drawn, "vertex", true).ok().and_then(ShaderStats::of) {
         out.push(AdrenoPath {
             path: "binning".into(),
             stats,
@@ -206,10 +205,11 @@ mod tests {
         let paths = water_paths(&pipelines).unwrap();
         assert_eq!(paths.len(), WATER_PATHS.len() + 2);
         assert_eq!(paths.last().unwrap().stats.instructions, 576);
-        // The binning pass's vertex shader, after the drawn one, where turnip lists it.
+        // The binning pass's vertex shader where the driver lists it, before the drawn one or
+        // after: each is read as itself.
         let mut binning = turnip_exe("vertex", 498);
         binning.name = "Binning VS".into();
-        pipelines.last_mut().unwrap().executables.push(binning);
+        pipelines.last_mut().unwrap().executables.insert(0, binning);
         let paths = water_paths(&pipelines).unwrap();
         assert_eq!(paths.len(), WATER_PATHS.len() + 3);
         let last = paths.last().unwrap();
