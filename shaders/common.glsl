@@ -74,6 +74,10 @@ layout(set = 0, binding = 0, std140) uniform Globals {
     vec4 underwater;
     // The comfort vignette's strength (x, 0 to 1; `render::ocean::vignette`).
     vec4 vignette;
+    // The mesh's collapse by its thickness on the screen (`lod::ScreenCollapse::uniform`): a
+    // lattice spacing h at distance d is h (x + y d) / d^2 halves of z pixels thick (z: where
+    // a lattice starts collapsing); lattices of level w and coarser collapse.
+    vec4 lod_screen;
 } g;
 
 // The interaction layer (`render::ocean::interaction`): h (m), ∂h/∂x, ∂h/∂z, foam; clamped,

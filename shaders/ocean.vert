@@ -81,6 +81,35 @@ vec2 morph_step(ivec2 ij) {
     return other_diagonal ? vec2(-1.0, 1.0) : -vec2(odd);
 }
 
+// The lattices a vertex's morph walks up at most (`lod::ScreenCollapse::CHAIN_STEPS`).
+const int CHAIN_STEPS = 3;
+
+// The morph chain (`lod::morph::chain_offset`): vertex `idx` of the level-`level` lattice
+// (spacing `hh`) slides toward the next coarser lattice's vertex by k_0, the larger of the
+// CDLOD factor of range `first` and the screen's; that vertex toward the next by k_1
+// (`second`'s or the screen's), and on by the screen's alone. The screen's factor of a
+// lattice (`lod::ScreenCollapse::factor`) rises from 0 where it is z pixels thick to 1 at
+// z / 2, where the next one's starts: with c its thickness in units of z / 2, clamp(2 - c),
+// c doubling with each lattice; only lattices of level w and coarser collapse. Every vertex
+// two patches (or a patch and the skirt) share walks the same chain from the same lattice
+// point at the same distance, so the surface stays watertight at any k.
+vec2 morph_chain(ivec2 idx, float hh, int level, float d, vec2 first, vec2 second) {
+    float c = hh * (g.lod_screen.x + g.lod_screen.y * d) / (d * d);
+    float k_first = morph_factor(first, d);
+    float k_second = morph_factor(second, d);
+    vec2 offset = vec2(0.0);
+    UNROLL for (int j = 0; j < CHAIN_STEPS; ++j) {
+        float k = float(level - j) >= g.lod_screen.w ? clamp(2.0 - c, 0.0, 1.0) : 0.0;
+        k = max(k, j == 0 ? k_first : (j == 1 ? k_second : 0.0));
+        vec2 st = morph_step(idx);
+        offset += hh * k * st;
+        idx = (idx + ivec2(st)) >> 1;
+        hh *= 2.0;
+        c *= 2.0;
+    }
+    return offset;
+}
+
 vec4 ocean_vertex(uint eye);
 
 void main() {
@@ -120,23 +149,20 @@ vec4 ocean_vertex(uint eye) {
         v_cell = h;
         d = distance(vec3(p0.x, 0.0, p0.y), g.lod_viewer.xyz);
         ivec2 ij = ivec2(round((a_pos.xz + 0.5) * v));
-        p = p0 + h * morph_factor(i_morph, d) * morph_step(ij);
-        int n = int(pc.grid_v);
-        bool stitched = (ij.x == n && (i_stitch & EAST) != 0u)
-            || (ij.y == n && (i_stitch & NORTH) != 0u)
-            || (ij.x == 0 && (i_stitch & WEST) != 0u)
-            || (ij.y == 0 && (i_stitch & SOUTH) != 0u);
-        // A select, not a branch: the vertex shader's work stays one straight line.
-        p += (stitched ? 2.0 * h * morph_factor(i_coarse_morph, d) : 0.0) * morph_step(ij >> 1);
+        // The first step is the patch's own CDLOD morph, the second its coarser neighbour's
+        // (the vertices of a stitched edge, even ones, follow it; elsewhere it is 0); the
+        // screen's collapse may take either further.
+        p = p0 + morph_chain(ij, h, int(i_level), d, i_morph, i_coarse_morph);
     } else {
         p0 = i_centre + a_pos.xz;
         v_cell = i_vertex_spacing;
         d = distance(vec3(p0.x, 0.0, p0.y), g.lod_viewer.xyz);
         p = p0;
         if (uint(gl_VertexIndex) < pc.inner_count) {
+            // The ring patches' stitched outer edge: their chain from its second step.
             float hh = 2.0 * i_vertex_spacing;
             ivec2 ij = ivec2(round(a_pos.xz / hh));
-            p += hh * morph_factor(i_coarse_morph, d) * morph_step(ij);
+            p += morph_chain(ij, hh, int(i_level) - 1, d, i_coarse_morph, vec2(0.0));
         }
     }
     // Each cascade fades out with distance before its waves alias on the coarser mesh. The

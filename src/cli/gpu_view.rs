@@ -170,6 +170,8 @@ pub fn render_view(
     opts.renderer.msaa = Msaa::from_samples(model.msaa)
         .ok_or_else(|| format!("{}: {} MSAA samples", model.name, model.msaa))?;
     let (width, height) = scaled_eye(a, model);
+    // The headset's surface at any `--scale`: its far mesh collapsed for the headset's pixels.
+    opts.renderer.mesh_eye_width = Some(model.eye.0);
     let size = EyeSize::new(width, height)?;
     let view = run.view;
     let path = CameraPath::still(glam::Vec3::new(0.0, view.height, 0.0), view.yaw, view.pitch);

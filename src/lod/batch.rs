@@ -14,18 +14,22 @@ use super::stitch::StitchFlags;
 /// ```text
 /// p₀  = centre + size · (u, v)                      // world xz, undisplaced
 /// d   = length(vec3(p₀.x, 0, p₀.y) − camera)        // camera: the viewer the LOD used
-/// p   = p₀ + h · k(d, morph) · step(i, j)           // odd vertices slide onto the parent's
-/// if the vertex is on an edge whose `stitch` bit is set (i = V: E, j = V: N, i = 0: W, j = 0: S):
-///     p += 2h · k(d, coarse_morph) · step(i >> 1, j >> 1)   // follow the coarser neighbour
-/// k(d, r)    = clamp((d − r.x) / (r.y − r.x), 0, 1)
+/// p   = p₀ + chain((i, j), h, level, d, morph, coarse_morph)
+/// chain(q, h, l, d, r₀, r₁) = Σ_{n=0..2} 2ⁿh · kₙ · step(qₙ)   // q₀ = q, qₙ₊₁ = (qₙ + step(qₙ)) >> 1
+/// kₙ = max(screen(2ⁿh, d, l − n), k(d, r₀) if n = 0, k(d, r₁) if n = 1)
+/// k(d, r)    = clamp((d − r.x) / (r.y − r.x), 0, 1), 0 for an empty range
 /// step(i, j) = (0, 0)   if i, j even
 ///              (−1, 0)  if i odd, j even
-///              (0, −1)  if i even, j odd
 ///              (−1, −1) if i, j odd and (i + j) & 3 == 2
+///              (0, −1)  if i even, j odd
 ///              (−1, +1) if i, j odd and (i + j) & 3 == 0
 /// ```
 ///
-/// then samples the ocean displacement at p. The grid indices have the parities of the world
+/// then samples the ocean displacement at p. Odd vertices slide onto the parent's lattice by
+/// the patch's own morph (n = 0); the vertices of an edge stitched to a coarser neighbour (the
+/// even ones the index set keeps) follow that neighbour's morph (n = 1; elsewhere in the patch
+/// k(d, coarse_morph) is 0); and the collapse by the screen ([`crate::lod::ScreenCollapse`])
+/// may take any lattice on toward the next. The grid indices have the parities of the world
 /// lattice (the grid origin snaps to S/V), so both patches on either side of every edge move
 /// every shared vertex identically and the morph never opens a crack; at k = 1 each triangle
 /// collapses onto one of the parent patch's triangles (step follows the parent's fan
@@ -34,8 +38,9 @@ use super::stitch::StitchFlags;
 ///
 /// The skirt (its instance has `size` = 1, positions in metres relative to `centre`) moves
 /// only its inner-edge vertices (gl_VertexIndex < `SkirtMesh::inner_vertex_count`), by the
-/// stitched-edge line with H = 2·`vertex_spacing` for 2h and (i, j) = round(pos.xz / H)
-/// (signed: take the parities with `& 1` and `& 3`): p = p₀ + H · k(d, coarse_morph) · step(i, j).
+/// ring patches' chain from its second lattice: with H = 2·`vertex_spacing` and (i, j) =
+/// round(pos.xz / H) (signed: the parities from `& 1` and `& 3`), p = p₀ + chain((i, j), H,
+/// level − 1, d, coarse_morph, empty).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct PatchInstance {

@@ -19,6 +19,7 @@
 //! `tests/no_alloc/lod.rs` counts allocations.
 
 pub mod batch;
+pub mod collapse;
 pub mod frustum;
 pub mod mesh;
 pub mod morph;
@@ -33,6 +34,7 @@ use glam::{Vec2, Vec3};
 use crate::base::ParamError;
 
 pub use batch::{Batches, DrawBatch, PatchInstance};
+pub use collapse::ScreenCollapse;
 pub use frustum::{Frustum, MaxDisplacement, StereoFrustum};
 pub use mesh::PatchMesh;
 pub use preset::{LodSettings, OceanSize, QualityPreset};

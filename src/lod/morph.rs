@@ -9,8 +9,11 @@
 //! each vertex carrying a parent vertex's position, so the surface, displacement sampled at the
 //! morphed positions, is the parent's; and k is 1 wherever the quadtree may swap a patch for
 //! its parent, 0 wherever it may swap a parent for its children, so the swap does not pop.
-//! Vertices on a stitched edge follow the coarser neighbour's own morph instead, so both sides
-//! of every edge move together.
+//! Vertices on a stitched edge follow the coarser neighbour's own morph as well, so both sides
+//! of every edge move together. Beyond both, the collapse by the screen
+//! ([`ScreenCollapse`]) may walk a vertex on up the coarser lattices ([`chain_offset`]): each
+//! step is a function of the lattice point and its distance alone, so it too keeps every
+//! shared vertex shared.
 //!
 //! The morph range of level l is [R_l + √2·s_l + 5h_l, R_(l−1) − 5h_l]: k = 1 on every vertex of
 //! a patch whenever it can be swapped for its parent, k = 0 on every vertex of a parent whenever
@@ -24,7 +27,7 @@
 use glam::{IVec2, Vec2, Vec3};
 
 use super::batch::PatchInstance;
-use super::stitch::StitchFlags;
+use super::collapse::ScreenCollapse;
 
 /// k(d, r) = clamp((d − start) / (end − start), 0, 1).
 pub fn morph_factor(range: [f32; 2], distance: f32) -> f32 {
@@ -49,47 +52,92 @@ pub fn morph_step(i: i32, j: i32) -> IVec2 {
     }
 }
 
+/// The morph chain's offset (m) of vertex `idx` of the level-`level` lattice of spacing
+/// `spacing` at `distance` (`morph_chain` in `shaders/ocean.vert`, the formula on
+/// [`PatchInstance`]): the vertex slides toward the next coarser lattice's vertex by k₀, the
+/// larger of the CDLOD factor of range `first` and the screen's collapse, that vertex toward
+/// the next by k₁ (`second` or the screen's), and on by the screen's alone, for at most
+/// [`ScreenCollapse::CHAIN_STEPS`] lattices.
+pub fn chain_offset(
+    idx: IVec2,
+    spacing: f32,
+    level: u32,
+    distance: f32,
+    cdlod: [[f32; 2]; 2],
+    collapse: &ScreenCollapse,
+) -> Vec2 {
+    let factor = |r: [f32; 2]| {
+        if r[1] > r[0] {
+            morph_factor(r, distance)
+        } else {
+            0.0
+        }
+    };
+    let (mut idx, mut hh, mut offset) = (idx, spacing, Vec2::ZERO);
+    for n in 0..ScreenCollapse::CHAIN_STEPS {
+        let screen = level
+            .checked_sub(n)
+            .map_or(0.0, |l| collapse.factor(hh, distance, l));
+        let own = cdlod.get(n as usize).map_or(0.0, |&r| factor(r));
+        let step = morph_step(idx.x, idx.y);
+        offset += hh * screen.max(own) * step.as_vec2();
+        idx = (idx + step) >> 1;
+        hh *= 2.0;
+    }
+    offset
+}
+
 /// The morphed world xz of unit-grid vertex (i, j) (0..=V) of a patch, exactly as the vertex
-/// shader computes it (formula on [`PatchInstance`]).
-pub fn patch_vertex_xz(inst: &PatchInstance, v: u32, i: u32, j: u32, camera: Vec3) -> Vec2 {
+/// shader computes it (formula on [`PatchInstance`]), for a viewer at `camera` and the frame's
+/// `collapse`.
+pub fn patch_vertex_xz(
+    inst: &PatchInstance,
+    v: u32,
+    (i, j): (u32, u32),
+    camera: Vec3,
+    collapse: &ScreenCollapse,
+) -> Vec2 {
     let unit = Vec2::new(i as f32 / v as f32 - 0.5, j as f32 / v as f32 - 0.5);
     let p0 = Vec2::from(inst.centre) + inst.size * unit;
     let h = inst.size / v as f32;
     let d = Vec3::new(p0.x, 0.0, p0.y).distance(camera);
-    let (i, j) = (i as i32, j as i32);
-    let mut p = p0 + h * morph_factor(inst.morph, d) * morph_step(i, j).as_vec2();
-    let s = StitchFlags::from_bits(inst.stitch as u8);
-    let v = v as i32;
-    let on_stitched = (i == v && s.contains(StitchFlags::EAST))
-        || (j == v && s.contains(StitchFlags::NORTH))
-        || (i == 0 && s.contains(StitchFlags::WEST))
-        || (j == 0 && s.contains(StitchFlags::SOUTH));
-    if on_stitched {
-        let k = morph_factor(inst.coarse_morph, d);
-        p += 2.0 * h * k * morph_step(i >> 1, j >> 1).as_vec2();
-    }
-    p
+    let idx = IVec2::new(i as i32, j as i32);
+    p0 + chain_offset(
+        idx,
+        h,
+        inst.level,
+        d,
+        [inst.morph, inst.coarse_morph],
+        collapse,
+    )
 }
 
 /// The morphed world xz of skirt vertex `pos` (relative to the grid centre) with the skirt's
 /// instance ([`crate::lod::OceanLod::skirt_instance`]): inner-edge vertices (`inner`) follow
-/// the ring patches' outer edges (`coarse_morph` on the doubled ring spacing H = 2 ×
-/// `vertex_spacing`, lattice index round(pos.xz / H)), outer corners stay put.
-pub fn skirt_vertex_xz(inst: &PatchInstance, pos: [f32; 3], inner: bool, camera: Vec3) -> Vec2 {
+/// the ring patches' outer edges (their chain from its second lattice: spacing H = 2 ×
+/// `vertex_spacing`, lattice index round(pos.xz / H), `coarse_morph`), outer corners stay put.
+pub fn skirt_vertex_xz(
+    inst: &PatchInstance,
+    pos: [f32; 3],
+    inner: bool,
+    camera: Vec3,
+    collapse: &ScreenCollapse,
+) -> Vec2 {
     let p0 = Vec2::from(inst.centre) + Vec2::new(pos[0], pos[2]);
     if !inner {
         return p0;
     }
     let d = Vec3::new(p0.x, 0.0, p0.y).distance(camera);
     let hh = 2.0 * inst.vertex_spacing;
-    let (i, j) = ((pos[0] / hh).round() as i32, (pos[2] / hh).round() as i32);
-    p0 + hh * morph_factor(inst.coarse_morph, d) * morph_step(i, j).as_vec2()
+    let idx = IVec2::new((pos[0] / hh).round() as i32, (pos[2] / hh).round() as i32);
+    let level = inst.level.saturating_sub(1);
+    p0 + chain_offset(idx, hh, level, d, [inst.coarse_morph, [0.0; 2]], collapse)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::lod::stitch::index_set;
+    use crate::lod::stitch::{index_set, StitchFlags};
 
     #[test]
     fn steps_and_factors() {

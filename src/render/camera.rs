@@ -115,6 +115,9 @@ pub struct Globals {
     /// The comfort vignette's strength (x, 0 none to 1 narrowest; drawn only when above 0,
     /// [`crate::render::ocean::vignette`]); y, z, w unused.
     pub vignette: [f32; 4],
+    /// The mesh's collapse by its thickness on the screen ([`crate::lod::ScreenCollapse`],
+    /// its [`uniform`](crate::lod::ScreenCollapse::uniform)).
+    pub lod_screen: [f32; 4],
 }
 
 impl Globals {

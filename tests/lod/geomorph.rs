@@ -18,6 +18,7 @@ use common::lod::Lcg;
 use glam::{Vec2, Vec3};
 
 use vr_ocean::lod::morph::patch_vertex_xz;
+use vr_ocean::lod::ScreenCollapse;
 use vr_ocean::lod::{
     FrameInput, Leaf, LodSettings, MaxDisplacement, OceanLod, OceanSize, PatchInstance,
     QualityPreset,
@@ -100,7 +101,7 @@ fn rendered_height(lod: &OceanLod, x: Vec2, camera: Vec3) -> Option<(f64, u8)> {
         }
         let p = t.map(|k: u16| {
             let (i, j) = ij(k);
-            let q = patch_vertex_xz(&inst, v, i, j, camera);
+            let q = patch_vertex_xz(&inst, v, (i, j), camera, &ScreenCollapse::NONE);
             (q.x as f64, q.y as f64)
         });
         let det = (p[1].0 - p[0].0) * (p[2].1 - p[0].1) - (p[2].0 - p[0].0) * (p[1].1 - p[0].1);

@@ -4,7 +4,8 @@
 //! its draw) plus the skirt form a closed, consistently oriented surface: every edge inside the
 //! covered area is used by exactly two triangles, once in each direction; only the skirt's
 //! outer rim is open. Also, with culling, every patch edge left open borders a culled patch, and
-//! the geomorph moves every shared vertex identically in all patches that use it.
+//! the geomorph moves every shared vertex identically in all patches that use it, also with
+//! the collapse by the screen (`lod::ScreenCollapse`) walking vertices up the lattices.
 
 use crate::common;
 
@@ -14,8 +15,12 @@ use glam::{Vec2, Vec3};
 
 use vr_ocean::lod::morph::{patch_vertex_xz, skirt_vertex_xz};
 use vr_ocean::lod::{
-    FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset, StitchFlags,
+    FrameInput, LodSettings, MaxDisplacement, OceanLod, OceanSize, QualityPreset, ScreenCollapse,
+    StitchFlags,
 };
+
+/// A headset's pixels per radian at the view's centre (a Quest 3 eye, 2064 px over 93°).
+const PIXELS_PER_RADIAN: f32 = 1000.0;
 
 /// Integer lattice key of a world xz position, in units of the finest vertex spacing.
 struct Lattice {
@@ -49,9 +54,11 @@ struct Surface {
     edges: Vec<(u64, u64)>,
     morphed: Vec<(u64, Vec2)>,
     upward: bool,
+    /// Vertices the collapse by the screen moved further than the CDLOD morph alone.
+    collapsed: usize,
 }
 
-fn gather(lod: &OceanLod, camera: Vec3, with_skirt: bool) -> Surface {
+fn gather(lod: &OceanLod, camera: Vec3, with_skirt: bool, collapse: &ScreenCollapse) -> Surface {
     let lat = Lattice::new(lod);
     let v = lod.settings().vertices();
     let mut s = Surface {
@@ -68,9 +75,11 @@ fn gather(lod: &OceanLod, camera: Vec3, with_skirt: bool) -> Surface {
             for (k, p) in pos.iter().enumerate() {
                 world[k] = Vec2::from(inst.centre) + inst.size * Vec2::new(p[0], p[2]);
                 keys[k] = lat.key(world[k]);
-                let (i, j) = (k as u32 % (v + 1), k as u32 / (v + 1));
-                s.morphed
-                    .push((keys[k], patch_vertex_xz(inst, v, i, j, camera)));
+                let ij = (k as u32 % (v + 1), k as u32 / (v + 1));
+                let q = patch_vertex_xz(inst, v, ij, camera, collapse);
+                let cdlod = patch_vertex_xz(inst, v, ij, camera, &ScreenCollapse::NONE);
+                s.collapsed += usize::from(q.distance(cdlod) > 1e-3);
+                s.morphed.push((keys[k], q));
             }
             add_triangles(&mut s, lod.mesh().indices(d.stitch), &keys, &world);
         }
@@ -88,7 +97,7 @@ fn gather(lod: &OceanLod, camera: Vec3, with_skirt: bool) -> Surface {
         for (n, p) in sk.positions().iter().enumerate() {
             let inner = (n as u32) < sk.inner_vertex_count();
             s.morphed
-                .push((k[n], skirt_vertex_xz(&inst, *p, inner, camera)));
+                .push((k[n], skirt_vertex_xz(&inst, *p, inner, camera, collapse)));
         }
         add_triangles(&mut s, sk.indices(), &k, &w);
     }
@@ -140,13 +149,15 @@ fn assert_morph_consistent(s: &mut Surface, what: &str) {
     }
 }
 
-fn run(preset: QualityPreset, size: f32, cameras: usize, seed: u64) -> usize {
+/// Checks `cameras` viewers; returns how many, and how many vertices the collapse by the
+/// screen moved (every other viewer's frame is drawn with it).
+fn run(preset: QualityPreset, size: f32, cameras: usize, seed: u64) -> (usize, usize) {
     let st = LodSettings::new(preset, OceanSize::new(size).unwrap());
     let mut lod = OceanLod::new(st);
     let mut rng = Lcg(seed);
     let heights = [0.0, 0.3, 1.7, 1.7, 1.7, 4.0, 25.0, 120.0, 900.0, 6000.0];
     let pad = MaxDisplacement::new([1.5, 2.0, 1.5]).unwrap();
-    let mut checked = 0;
+    let (mut checked, mut collapsed) = (0, 0);
     for n in 0..cameras {
         let x = (rng.next() - 0.5) * 40_000.0;
         let z = (rng.next() - 0.5) * 40_000.0;
@@ -168,7 +179,13 @@ fn run(preset: QualityPreset, size: f32, cameras: usize, seed: u64) -> usize {
             let z = (k & 0xffff_ffff) as i64 - (1 << 30);
             x.abs() == rim_units || z.abs() == rim_units
         };
-        let mut full = gather(&lod, camera, true);
+        let collapse = if n % 2 == 0 {
+            ScreenCollapse::new(&st, camera.y, PIXELS_PER_RADIAN)
+        } else {
+            ScreenCollapse::NONE
+        };
+        let mut full = gather(&lod, camera, true, &collapse);
+        collapsed += full.collapsed;
         assert_closed(&full, rim, &what);
         assert_morph_consistent(&mut full, &what);
 
@@ -183,7 +200,7 @@ fn run(preset: QualityPreset, size: f32, cameras: usize, seed: u64) -> usize {
         let eyes = quest_eyes(camera, yaw, pitch);
         culled_frame(&mut lod, &eyes, pad);
         assert!(lod.draws().len() <= 16);
-        let seen = gather(&lod, camera, false);
+        let seen = gather(&lod, camera, false, &collapse);
         for w in seen.edges.windows(2) {
             assert_ne!(w[0], w[1], "{what}: culled surface reuses an edge");
         }
@@ -197,27 +214,42 @@ fn run(preset: QualityPreset, size: f32, cameras: usize, seed: u64) -> usize {
         }
         checked += 1;
     }
-    checked
+    (checked, collapsed)
 }
 
 #[test]
 fn low_and_medium_are_watertight_for_hundreds_of_viewers() {
-    let mut n = 0;
+    let (mut n, mut collapsed) = (0, 0);
     for size in [256.0, 1000.0, 8192.0] {
-        n += run(QualityPreset::Low, size, 60, 1);
-        n += run(QualityPreset::Medium, size, 40, 2);
+        for (preset, cameras, seed) in [(QualityPreset::Low, 60, 1), (QualityPreset::Medium, 40, 2)]
+        {
+            let (c, m) = run(preset, size, cameras, seed);
+            n += c;
+            collapsed += m;
+        }
     }
     assert!(n >= 300);
+    assert!(
+        collapsed > 10_000,
+        "the screen's collapse moved only {collapsed} vertices"
+    );
 }
 
 #[test]
 fn high_and_ultra_are_watertight() {
-    let mut n = 0;
+    let (mut n, mut collapsed) = (0, 0);
     for size in [256.0, 3000.0, 8192.0] {
-        n += run(QualityPreset::High, size, 12, 3);
-        n += run(QualityPreset::Ultra, size, 12, 4);
+        for (preset, seed) in [(QualityPreset::High, 3), (QualityPreset::Ultra, 4)] {
+            let (c, m) = run(preset, size, 12, seed);
+            n += c;
+            collapsed += m;
+        }
     }
     assert!(n >= 72);
+    assert!(
+        collapsed > 10_000,
+        "the screen's collapse moved only {collapsed} vertices"
+    );
 }
 
 #[test]

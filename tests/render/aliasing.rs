@@ -69,6 +69,8 @@ fn options(msaa: Msaa, shading: Shading) -> vr_ocean::app::RunOptions {
     } else {
         Anisotropy::Off
     };
+    // The reference draws the tested frames' surface: the far mesh collapsed for their size.
+    o.renderer.mesh_eye_width = Some(SIZE);
     o
 }
 

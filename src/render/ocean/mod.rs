@@ -61,7 +61,7 @@ use super::error::RenderError;
 use super::render_pass::StereoMode;
 use super::sky::SunSky;
 use super::targets::Targets;
-use crate::lod::OceanLod;
+use crate::lod::{OceanLod, ScreenCollapse};
 use crate::sim::OceanConfig;
 pub use anisotropy::Anisotropy;
 pub use frame::{FrameInput, FrameReport, TargetImages, MAX_CASCADES};
@@ -169,6 +169,20 @@ impl OceanRenderer {
         self.targets.transient_bytes()
     }
 
+    /// This frame's collapse of the mesh by its thickness on the screen, for the finer of
+    /// the two eyes at the full eye width, or the one the settings size it for (a lowered
+    /// render scale draws fewer pixels of the same view: the mesh stays as fine as at full
+    /// size).
+    fn screen_collapse(width: u32, input: &FrameInput<'_>) -> ScreenCollapse {
+        let ppr = input
+            .eyes
+            .iter()
+            .map(|e| ScreenCollapse::pixels_per_radian(&e.fov, width))
+            .fold(0.0, f32::max);
+        let viewer = (input.eyes[0].position + input.eyes[1].position) * 0.5;
+        ScreenCollapse::new(input.lod.settings(), viewer.y, ppr)
+    }
+
     /// Records and submits one frame into target `input.image`. Waits only for the frame that
     /// last used this slot (`frames_in_flight` frames ago).
     pub fn render(
@@ -203,7 +217,11 @@ impl OceanRenderer {
         } else {
             None
         };
-        let mut globals = self.pass.globals(input, &self.settings, self.sky.light());
+        let width = self.settings.mesh_eye_width.unwrap_or(self.extent.width);
+        let collapse = Self::screen_collapse(width, input);
+        let mut globals = self
+            .pass
+            .globals(input, &self.settings, self.sky.light(), &collapse);
         globals.filtering[0] = taps as f32;
         globals.filtering[1] = if self.settings.supersampling {
             1.0

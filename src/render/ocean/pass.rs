@@ -16,7 +16,7 @@ use super::mesh::MeshBuffers;
 use super::pipelines::{Pipelines, Push};
 use super::sky_map::SkyLight;
 use super::RendererSettings;
-use crate::lod::{LodSettings, OceanLod};
+use crate::lod::{LodSettings, OceanLod, ScreenCollapse};
 use crate::render::barrier::Access;
 use crate::render::camera::Globals;
 use crate::render::targets::resolve_eye;
@@ -56,6 +56,7 @@ impl PassConstants {
         input: &FrameInput<'_>,
         settings: &RendererSettings,
         light: &SkyLight,
+        collapse: &ScreenCollapse,
     ) -> Globals {
         let mut g: Globals = bytemuck::Zeroable::zeroed();
         g.set_eyes(input.eyes);
@@ -67,6 +68,7 @@ impl PassConstants {
             0.0
         };
         g.vignette = [vignette, 0.0, 0.0, 0.0];
+        g.lod_screen = collapse.uniform();
         let viewer = (input.eyes[0].position + input.eyes[1].position) * 0.5;
         g.lod_viewer = viewer.extend(input.surfaces.time() as f32).to_array();
         g.sun = light
@@ -92,7 +94,7 @@ impl PassConstants {
             *p = c.patch;
             *f = c.fade_patch;
         }
-        let fade = cascade_fades(&self.lod, &fade_patches[..self.cascades]);
+        let fade = cascade_fades(&self.lod, collapse, &fade_patches[..self.cascades]);
         let finest = patch_sizes[self.cascades.clamp(1, 4) - 1];
         for ((inv, offset), &l) in g
             .inv_patch_size
@@ -112,7 +114,7 @@ impl PassConstants {
             let side = l.config().side_m();
             g.interaction = [ox, oz, 1.0 / side, 0.5 / l.config().cells.n() as f32];
             // Faded from the mesh as a cascade of the layer's side would be.
-            let [[start, ..], [end, ..]] = cascade_fades(&self.lod, &[side]);
+            let [[start, ..], [end, ..]] = cascade_fades(&self.lod, collapse, &[side]);
             g.interaction_fade = [start, end, 0.0, 0.0];
         }
         let (wind, toward) = input.surfaces.wind;
@@ -189,15 +191,20 @@ impl PassConstants {
 ///
 /// A level-l patch (vertex spacing s_l/V) is split once the viewer is nearer than K·s_l to its
 /// square ([`LodSettings::split_distance`]), so at distance d the mesh spacing is at most about
-/// d/(K·V); with a factor 2 for vertices up to a patch diagonal beyond the square, 2d/(K·V). A
-/// cascade of patch L keeps its displacement while that spacing is under L/8 and is gone where
-/// it reaches L/4, beyond which its shorter waves would alias into noise on the coarser mesh
-/// (the normals, sampled per pixel with mips, still show them).
-fn cascade_fades(st: &LodSettings, patch_sizes: &[f32]) -> [[f32; 4]; 2] {
+/// d/(K·V); with a factor 2 for vertices up to a patch diagonal beyond the square, 2d/(K·V).
+/// The collapse by the screen can make it coarser sooner ([`ScreenCollapse::spacing_bound`]).
+/// A cascade of patch L keeps its displacement while that spacing is under L/8 and is gone
+/// where it reaches L/4, beyond which its shorter waves would alias into noise on the coarser
+/// mesh (the normals, sampled per pixel with mips, still show them).
+fn cascade_fades(
+    st: &LodSettings,
+    collapse: &ScreenCollapse,
+    patch_sizes: &[f32],
+) -> [[f32; 4]; 2] {
     let mut out = [[f32::MAX; 4], [f32::MAX; 4]];
     let kv = st.preset().split_scale() * st.vertices() as f32;
     for (c, &l) in patch_sizes.iter().enumerate() {
-        let end = l * kv / 8.0;
+        let end = (l * kv / 8.0).min(collapse.distance_of_spacing(l / 4.0));
         out[0][c] = 0.5 * end;
         out[1][c] = end;
     }

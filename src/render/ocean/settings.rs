@@ -83,6 +83,11 @@ pub struct RendererSettings {
     /// ([`super::OceanRenderer::path_counts`]; `vr-ocean gpu-budget`): the counting variant of the
     /// fragment shader, which shades the same but writes a tally. Never in a user's run.
     pub count_paths: bool,
+    /// The eye width (pixels) the far mesh's collapse by its thickness on the screen is sized
+    /// for ([`crate::lod::ScreenCollapse`]); `None`: the eye image's own. Comparisons across
+    /// sizes (a supersampled reference, counts taken at a fraction of the headset's size) set
+    /// it so that every image draws the same surface.
+    pub mesh_eye_width: Option<u32>,
 }
 
 impl RendererSettings {
@@ -118,6 +123,7 @@ impl Default for RendererSettings {
             tonemap_ramp: false,
             interaction: None,
             count_paths: false,
+            mesh_eye_width: None,
         }
     }
 }
