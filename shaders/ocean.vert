@@ -40,6 +40,8 @@ layout(location = 2) in float i_size;
 layout(location = 3) in uint i_level;
 layout(location = 4) in vec2 i_morph;
 layout(location = 5) in vec2 i_coarse_morph;
+// The stitch flags choose the draw's index set; the vertices' positions do not read them (the
+// morph chain moves a stitched edge's kept vertices with the coarser neighbour).
 layout(location = 6) in uint i_stitch;
 layout(location = 7) in float i_vertex_spacing;
 
@@ -59,10 +61,6 @@ layout(location = 5) out mediump vec3 v_fog;
 // skirt vertex (10 S <= 82 km), in front of the cleared far plane so the GREATER test passes.
 const float SKY_DEPTH = 1e-7;
 
-const uint EAST = 1u;
-const uint NORTH = 2u;
-const uint WEST = 4u;
-const uint SOUTH = 8u;
 
 // k(d, r) = clamp((d - start) / (end - start), 0, 1); level 0 never morphs (empty range).
 float morph_factor(vec2 r, float d) {
@@ -94,7 +92,10 @@ const int CHAIN_STEPS = 3;
 // two patches (or a patch and the skirt) share walks the same chain from the same lattice
 // point at the same distance, so the surface stays watertight at any k.
 vec2 morph_chain(ivec2 idx, float hh, int level, float d, vec2 first, vec2 second) {
-    float c = hh * (g.lod_screen.x + g.lod_screen.y * d) / (d * d);
+    // The distance at least 1 mm: under an eye on the water (H = 0) the point below it is
+    // thick, not 0 / 0.
+    float dd = max(d, 1e-3);
+    float c = hh * (g.lod_screen.x + g.lod_screen.y * dd) / (dd * dd);
     float k_first = morph_factor(first, d);
     float k_second = morph_factor(second, d);
     vec2 offset = vec2(0.0);

@@ -84,9 +84,12 @@ impl ScreenCollapse {
         width as f32 / (fov.angle_right.tan() - fov.angle_left.tan())
     }
 
-    /// The thickness (pixels) of a lattice spacing `spacing` at `distance`.
+    /// The thickness (pixels) of a lattice spacing `spacing` at `distance`, taken at least
+    /// 1 mm as in the shader (under an eye on the water, H = 0, the point below it is thick,
+    /// not 0 / 0).
     pub fn thickness(&self, spacing: f32, distance: f32) -> f32 {
-        spacing * (self.height_px + self.slope_px * distance) / (distance * distance)
+        let d = distance.max(1e-3);
+        spacing * (self.height_px + self.slope_px * d) / (d * d)
     }
 
     /// How far (0 to 1) the level-`level` lattice of spacing `spacing` has collapsed onto the
@@ -209,6 +212,15 @@ mod tests {
         // The coarsest lattice it reaches is level 2's (16 m at medium, S = 2048).
         assert_eq!(c.distance_of_spacing(16.0), f32::MAX);
         assert!(c.spacing_bound(1e5) <= 16.0);
+    }
+
+    #[test]
+    fn the_point_under_an_eye_on_the_water_does_not_move() {
+        let c = quest(QualityPreset::Medium, 0.0);
+        for d in [0.0, 1e-4, 0.5] {
+            assert_eq!(c.factor(2.0, d, 5), 0.0, "at {d} m");
+        }
+        assert!(c.factor(2.0, 2000.0, 5) > 0.0);
     }
 
     #[test]
