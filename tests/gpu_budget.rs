@@ -17,15 +17,6 @@ use vr_ocean::xr::openxr::quest::Headset;
 /// goal, [`budget::GATE_SHARE`] (75 %).
 const GATE: f64 = budget::GATE_SHARE;
 
-/// The views whose Adreno estimate does not meet the goal yet (issue 43 is open on them), each
-/// with a ceiling: its latest estimate plus 5 points, so that it can only get better. Measured
-/// with `vr-ocean gpu-budget` (lavapipe's counts, ir3's statistics; Zen 4) once the far mesh
-/// collapsed by its thickness on the screen (`lod::ScreenCollapse`): Quest 2 70.8/69.3/68.5/
-/// 86.3 %, Quest 3 56.3/54.3/40.1/70.4 % (horizon, glitter, down, top-deck; the 25 m stress
-/// view, not gated: 94 and 80 %). Remove a line once its view meets the goal. (The SPIR-V
-/// model, gated where the Adreno statistics are not read, meets it everywhere.)
-const NOT_YET: [(&str, &str, f64); 1] = [("Quest 2", "top-deck", 0.91)];
-
 #[test]
 fn every_standard_view_fits_its_headsets_budget() {
     let _turn = RENDERING.lock().unwrap_or_else(|e| e.into_inner());
@@ -122,15 +113,10 @@ fn every_standard_view_fits_its_headsets_budget() {
             // app allows, `top-deck`, is gated in its place): printed above, not gated.
             continue;
         }
-        let gate = NOT_YET
-            .iter()
-            .filter(|_| turnip.is_some())
-            .find(|(h, v, _)| *h == headset && *v == view)
-            .map_or(GATE, |&(_, _, ceiling)| ceiling);
-        if estimated > gate * budget_ms {
+        if estimated > GATE * budget_ms {
             over.push(format!(
                 "{headset} {view}: {estimated:.2} ms > {:.0} % of {budget_ms:.2} ms",
-                100.0 * gate
+                100.0 * GATE
             ));
         }
     }
@@ -151,6 +137,7 @@ fn the_model_follows_the_apps_headset_defaults() {
         let d = headset.defaults();
         assert_eq!(model.preset, d.preset.name(), "{}", model.name);
         assert!((model.refresh_hz - d.max_refresh_rate as f64).abs() < 1e-6);
+        assert_eq!(model.resolution_scale, d.resolution_scale, "{}", model.name);
         let foveation = format!("{:?}", d.foveation);
         assert_eq!(
             format!("{:?}", model.foveation),

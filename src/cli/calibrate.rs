@@ -1,5 +1,5 @@
 //! `vr-ocean gpu-budget --calibrate`: asks the cost model to predict the device it runs on.
-//! The calibration passes (`render::calibration`) are timed at a headset's eye size with its
+//! The calibration passes (`render::calibration`) are timed at a headset's recommended eye size with its
 //! settings (Quest 2's by default), the device's costs fitted from them (`render::budget::calibration`), and every
 //! standard view's ocean pass predicted from its counts (the counting pass) and compared with
 //! the plain pass's own GPU time (its timestamps, as `headless` reports them).
@@ -139,7 +139,9 @@ struct Report<'a> {
 
 pub fn calibrate_cmd(a: &GpuBudgetArgs, costs: &PathCosts, views: &[&StandardView]) -> CmdResult {
     if a.scale != 1.0 {
-        return Err("--calibrate renders at the headset's eye size: leave out --scale".into());
+        return Err(
+            "--calibrate renders at the headset's recommended eye size: leave out --scale".into(),
+        );
     }
     if !(1..=100).contains(&a.repeats) {
         return Err(format!("--repeats {}: 1 to 100", a.repeats).into());
@@ -150,7 +152,14 @@ pub fn calibrate_cmd(a: &GpuBudgetArgs, costs: &PathCosts, views: &[&StandardVie
     if let Some(path) = &a.from {
         return refit(a, path);
     }
-    let model = a.headset.model();
+    // At the runtime's recommended eye size (render scale 1), whatever the headset's default
+    // scale: the calibration predicts the device it runs on, and its recorded runs and
+    // ceilings were measured at that size.
+    let model = &budget::HeadsetModel {
+        eye: a.headset.model().recommended_eye,
+        resolution_scale: 1.0,
+        ..*a.headset.model()
+    };
     // The calibration's device stays open while the views render (in devices of their own):
     // its reference pass is timed again around each view, so that a host whose speed drifts
     // (shared machines: 1.5x within minutes) is measured at the speed the view met.
@@ -230,7 +239,7 @@ struct Calibration {
 struct Measuring<'a> {
     a: &'a GpuBudgetArgs,
     gpu: &'a GpuContext,
-    model: &'static budget::HeadsetModel,
+    model: &'a budget::HeadsetModel,
     costs: &'a PathCosts,
     taps: u32,
     device: &'a str,
@@ -349,7 +358,7 @@ fn print_rows(
         println!("{json}");
     } else {
         println!(
-            "cost model calibrated on {device} at {}'s eye size (docs/notes/gpu-cost-model.md)",
+            "cost model calibrated on {device} at {}'s recommended eye size (docs/notes/gpu-cost-model.md)",
             a.headset.model().name
         );
         println!(

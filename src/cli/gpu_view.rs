@@ -45,7 +45,8 @@ pub struct GpuBudgetArgs {
     #[arg(long)]
     pub anisotropy: Option<u32>,
     /// Calibrate the model on the device in use instead: time the calibration passes (known
-    /// work per fragment, small triangles) at the Quest 2 eye size with its settings, fit the
+    /// work per fragment, small triangles) at the Quest 2's recommended eye size (at render
+    /// scale one) with its settings, fit the
     /// device's costs, predict the ocean pass of every standard view from its counts, and
     /// measure the plain pass's own GPU time (its timestamps, as `headless` reports them).
     /// Prints one object per view: device, view, predicted_ms, measured_ms, error, the
@@ -60,8 +61,8 @@ pub struct GpuBudgetArgs {
     /// Leave out the Adreno compiler's statistics (no turnip needed).
     #[arg(long)]
     pub no_adreno: bool,
-    /// With --calibrate: the headset whose eye size and default settings the calibration
-    /// and the views are rendered at.
+    /// With --calibrate: the headset whose recommended eye size and default settings the
+    /// calibration and the views are rendered at.
     #[arg(long, value_enum, default_value_t = HeadsetArg::Quest2)]
     pub headset: HeadsetArg,
     /// With --calibrate: also write the whole calibration (every pass's times, the fitted

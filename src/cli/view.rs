@@ -115,7 +115,8 @@ pub struct XrArgs {
     /// runtime ends it or Ctrl-C.
     #[arg(long)]
     pub frames: Option<u64>,
-    /// Factor on the runtime's recommended per-eye size, 0.1 to 4 [default: the headset's, 1].
+    /// Factor on the runtime's recommended per-eye size, 0.1 to 4 [default: the headset's: 0.9
+    /// on Quest 2, 1 elsewhere].
     #[arg(long, allow_negative_numbers = true)]
     pub resolution_scale: Option<f32>,
     /// Fixed foveation level (with XR_FB_foveation) [default: the headset's: high on Quest 2,

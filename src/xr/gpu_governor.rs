@@ -16,7 +16,8 @@
 //!    filtered lobe stays);
 //! 2. [`QualityStep::FoveationUp`]: one fixed-foveation level higher;
 //! 3. [`QualityStep::Scale85`] and [`QualityStep::Scale70`]: the eye images rendered into a
-//!    centred sub-rectangle of 0.85 and 0.7 of their size (the compositor scales it back);
+//!    centred sub-rectangle, 0.85 and 0.7 of the runtime's recommended size (Meta's render
+//!    scale; the compositor scales it back), each only where the images are larger;
 //! 4. [`QualityStep::LodDown`]: the LOD quality preset one lower (a rebuild: rare).
 //!
 //! Levels that cannot be applied (supersampling already off, no foveation to raise, no
@@ -77,7 +78,8 @@ impl QualityStep {
         }
     }
 
-    /// The render scale at this level (factor on both sides of the eye image).
+    /// The render scale at this level: a share of the runtime's recommended eye size on both
+    /// sides (1: the swapchain's full size, whatever its own scale).
     pub fn render_scale(self) -> f32 {
         match self {
             QualityStep::Full | QualityStep::NoSupersampling | QualityStep::FoveationUp => 1.0,
@@ -92,16 +94,20 @@ impl QualityStep {
 }
 
 /// What the backend lets the governor change besides the renderer's own settings.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct GovernorCaps {
     /// The specular AA supersamples or the normal maps are filtered anisotropically now, so
     /// turning both off saves something ([`QualityStep::NoSupersampling`]; the app's to say).
     pub supersampling: bool,
     /// Fixed foveation can be raised one level ([`QualityStep::FoveationUp`]).
     pub foveation: bool,
-    /// The eye images can be shown from a sub-rectangle ([`QualityStep::Scale85`],
-    /// [`QualityStep::Scale70`]).
-    pub render_rect: bool,
+    /// `Some(scale)`: the eye images can be shown from a sub-rectangle
+    /// ([`QualityStep::Scale85`], [`QualityStep::Scale70`]), and `scale` is the swapchain's size
+    /// as a share of the runtime's recommended one (its resolution scale: 0.9 on a Quest 2).
+    /// The steps' scales are shares of the recommended size, as Meta's render scale is
+    /// (VRC.Quest.Performance.4 recommends at least 0.85), so a step the images are already
+    /// at or under is left out ([`render_rect_share`]).
+    pub render_rect: Option<f32>,
     /// A lower LOD preset exists ([`QualityStep::LodDown`]; the app's to say).
     pub lod: bool,
 }
@@ -167,8 +173,11 @@ impl GpuGovernor {
         let mut available = [true; 6];
         available[QualityStep::NoSupersampling.index()] = caps.supersampling;
         available[QualityStep::FoveationUp.index()] = caps.foveation;
-        available[QualityStep::Scale85.index()] = caps.render_rect;
-        available[QualityStep::Scale70.index()] = caps.render_rect;
+        for step in [QualityStep::Scale85, QualityStep::Scale70] {
+            available[step.index()] = caps
+                .render_rect
+                .is_some_and(|base| render_rect_share(step, base) < 1.0);
+        }
         available[QualityStep::LodDown.index()] = caps.lod;
         Self {
             available,
@@ -294,6 +303,16 @@ impl GpuGovernor {
     }
 }
 
+/// The share of the swapchain's images (each side) that `step` draws when the swapchain is
+/// `base` of the runtime's recommended size: the step's render scale over `base`, at most 1.
+pub fn render_rect_share(step: QualityStep, base: f32) -> f32 {
+    if base > 0.0 {
+        (step.render_scale() / base).min(1.0)
+    } else {
+        1.0
+    }
+}
+
 /// The centred sub-rectangle of an eye image of `extent` rendered at `scale` (at least 1×1
 /// pixel): its centre stays where the fixed foveation's full-rate centre is.
 pub fn scaled_rect(extent: vk::Extent2D, scale: f32) -> vk::Rect2D {
@@ -322,7 +341,7 @@ mod tests {
         GovernorCaps {
             supersampling: true,
             foveation: true,
-            render_rect: true,
+            render_rect: Some(1.0),
             lod: true,
         }
     }
@@ -500,6 +519,28 @@ mod tests {
         assert_eq!(g.level(), level);
         // Nonsense periods are ignored.
         assert_eq!(g.observe(Some(Duration::from_millis(5)), 0.0, 31.0), None);
+    }
+
+    #[test]
+    fn render_scale_steps_are_shares_of_the_recommended_size() {
+        // A Quest 2's swapchain at 0.9 of the recommended size: the 0.85 step draws 0.85 of
+        // the recommended size, 0.944 of the images.
+        let share = render_rect_share(QualityStep::Scale85, 0.9);
+        assert!((share - 0.85 / 0.9).abs() < 1e-6);
+        assert!((render_rect_share(QualityStep::Scale70, 0.9) - 0.7 / 0.9).abs() < 1e-6);
+        assert_eq!(render_rect_share(QualityStep::FoveationUp, 0.9), 1.0);
+        let shown = |base: f32| {
+            let mut g = GpuGovernor::new(GovernorCaps {
+                render_rect: Some(base),
+                ..GovernorCaps::default()
+            });
+            let changes = run(&mut g, 0..72 * 20, |_| Some(2.0));
+            changes.iter().map(|c| c.1).collect::<Vec<_>>()
+        };
+        assert_eq!(shown(0.9), [QualityStep::Scale85, QualityStep::Scale70]);
+        // Images already at or under a step's scale leave it out.
+        assert_eq!(shown(0.85), [QualityStep::Scale70]);
+        assert!(shown(0.7).is_empty());
     }
 
     #[test]

@@ -99,8 +99,14 @@ pub struct HeadsetModel {
     pub name: &'static str,
     /// Its GPU at the clock apps get by default.
     pub gpu: GpuFigures,
-    /// Eye-buffer size (pixels) at render scale 1.
+    /// Eye-buffer size (pixels) the app renders by default: the runtime's recommended size
+    /// ([`HeadsetModel::recommended_eye`]) times the headset's default resolution scale, rounded
+    /// as the swapchain's size is (`xr::openxr::swapchain::eye_extent`).
     pub eye: (u32, u32),
+    /// The runtime's recommended eye-buffer size (pixels), render scale 1.
+    pub recommended_eye: (u32, u32),
+    /// The app's default resolution scale on this headset (`Headset::defaults`).
+    pub resolution_scale: f32,
     /// Display refresh rate (Hz) the app asks for.
     pub refresh_hz: f64,
     /// MSAA samples.
@@ -123,7 +129,9 @@ impl HeadsetModel {
 /// Quest 2: Adreno 650 (512 FP32 lanes, FP16 at twice the rate) at 490 MHz (GPU level 3, Meta's
 /// CPU and GPU levels page), 32 bilinear texels a clock (16 trilinear), 24 pixels a clock
 /// (third-party listings of its render back-ends), a triangle a clock (assumption), LPDDR4X at
-/// 34 GB/s; 1440 × 1584 eye buffers at 72 Hz, MSAA 4, high foveation, the medium preset.
+/// 34 GB/s; 1440 × 1584 eye buffers recommended, rendered at 0.9 of that (1296 × 1426: the
+/// standing eye on the top deck did not fit the 75 % goal at full size, issue 43), 72 Hz, MSAA 4,
+/// high foveation, the medium preset.
 pub const QUEST_2: HeadsetModel = HeadsetModel {
     name: "Quest 2",
     gpu: GpuFigures {
@@ -136,7 +144,9 @@ pub const QUEST_2: HeadsetModel = HeadsetModel {
         pixels_per_s: 24.0 * 490e6,
         triangles_per_s: 490e6,
     },
-    eye: (1440, 1584),
+    eye: (1296, 1426),
+    recommended_eye: (1440, 1584),
+    resolution_scale: 0.9,
     refresh_hz: 72.0,
     msaa: 4,
     foveation: FoveationLevel::High,
@@ -161,6 +171,8 @@ pub const QUEST_3: HeadsetModel = HeadsetModel {
         triangles_per_s: 2.5 * 587e6,
     },
     eye: (1680, 1760),
+    recommended_eye: (1680, 1760),
+    resolution_scale: 1.0,
     refresh_hz: 90.0,
     msaa: 4,
     foveation: FoveationLevel::Medium,
@@ -532,7 +544,7 @@ mod tests {
     #[test]
     fn more_supersampled_fragments_cost_more_and_foveation_saves() {
         let view = &VIEWS[0];
-        let pixels = (1440 * 1584 * 2) as u64;
+        let pixels = 2 * QUEST_2.eye.0 as u64 * QUEST_2.eye.1 as u64;
         let mut counts = PathCounts {
             sky: pixels / 3,
             single: pixels / 2,
@@ -559,6 +571,19 @@ mod tests {
         assert!(estimate(&q3, view, &costs(), &counts).estimated_ms < more.estimated_ms);
         let text = table(&[base, more]);
         assert_eq!(text.lines().count(), 3);
+    }
+
+    #[test]
+    fn the_rendered_eye_is_the_recommended_one_scaled_as_the_swapchain_rounds_it() {
+        for h in HEADSETS {
+            let side = |rec: u32| (rec as f32 * h.resolution_scale).round() as u32;
+            assert_eq!(
+                h.eye,
+                (side(h.recommended_eye.0), side(h.recommended_eye.1)),
+                "{}",
+                h.name
+            );
+        }
     }
 
     #[test]

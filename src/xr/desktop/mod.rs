@@ -333,7 +333,7 @@ impl FrameLoop for HeadlessXr {
     /// steps apply (read-backs still copy the whole image, its border then stale).
     fn governor_caps(&self) -> GovernorCaps {
         GovernorCaps {
-            render_rect: true,
+            render_rect: Some(1.0),
             ..GovernorCaps::default()
         }
     }

@@ -148,6 +148,8 @@ pub struct OpenXr {
     options: OpenXrOptions,
     /// Per-eye image size.
     extent: vk::Extent2D,
+    /// The eye images' share of the runtime's recommended size (each side).
+    resolution_scale: f32,
     /// The part of each eye image drawn and shown (the GPU-time governor's render scale).
     render_rect: vk::Rect2D,
     /// The fixed foveation started with, and whether the governor raised it a level.
@@ -387,7 +389,7 @@ impl FrameLoop for OpenXr {
         let (base, _) = self.foveation;
         GovernorCaps {
             foveation: self.session().foveation.is_some() && base.higher().is_some(),
-            render_rect: true,
+            render_rect: Some(self.resolution_scale),
             // The app's to say.
             supersampling: false,
             lod: false,

@@ -115,12 +115,18 @@ impl Headset {
     /// estimates from desktop measurements scaled by the SoCs' published specifications, not
     /// headset measurements (none were possible here); the refresh governor steps down at run
     /// time when frames miss.
+    ///
+    /// The Quest 2 renders at 0.9 of the runtime's recommended eye size (1296 × 1426 of
+    /// 1440 × 1584): by the Adreno-compiler model (`vr-ocean gpu-budget`, issue 43) a standing
+    /// eye on the top deck cost 86 % of the 13.9 ms budget at full size and 72 % at 0.9, the
+    /// other views 69-71 % and 56-62 %; the GPU-time governor's render-scale steps apply on top
+    /// of it, and `--resolution-scale` overrides it.
     pub fn defaults(self) -> DeviceDefaults {
         match self {
             Headset::Quest2 => DeviceDefaults {
                 max_refresh_rate: 72.0,
                 foveation: Foveation::High,
-                resolution_scale: 1.0,
+                resolution_scale: 0.9,
                 preset: crate::lod::QualityPreset::Medium,
                 grid: 256,
                 workers_cap: 3,

@@ -155,6 +155,7 @@ impl OpenXr {
             preset: options.preset.unwrap_or(defaults.preset),
             options,
             extent,
+            resolution_scale: scale,
             render_rect: vk::Rect2D {
                 offset: vk::Offset2D::default(),
                 extent,
