@@ -133,6 +133,10 @@ impl FrameLoop for ActivityFrameLoop {
         self.xr.set_render_rect(rect)
     }
 
+    fn render_rect(&self) -> ash::vk::Rect2D {
+        self.xr.render_rect()
+    }
+
     fn report_governor(&mut self, state: GovernorState) {
         self.xr.report_governor(state);
     }

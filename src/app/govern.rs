@@ -14,8 +14,9 @@ use crate::lod::QualityPreset;
 use crate::render::ocean::{Anisotropy, RendererSettings};
 use crate::render::{OceanRenderer, RenderError};
 use crate::xr::gpu_governor::{
-    render_rect_share, scaled_rect, GovernorCaps, GovernorState, GpuGovernor, QualityStep,
+    render_rect_share, GovernorCaps, GovernorState, GpuGovernor, QualityStep,
 };
+use crate::xr::render_scale::{scaled_rect, RenderScales};
 use crate::xr::{FrameLoop, FrameState};
 
 /// Most level changes a run's history keeps (allocated once; later changes are only logged).
@@ -134,9 +135,9 @@ pub(super) struct Governed {
     supersampling: bool,
     /// The user's preset (the level lowers it by one at most).
     pub preset: QualityPreset,
-    /// The swapchain's share of the recommended eye size (`GovernorCaps::render_rect`; 1
-    /// where the backend shows no sub-rectangle).
-    image_scale: f32,
+    /// The eye images' and the configured drawn share of the recommended eye size
+    /// (`GovernorCaps::render_rect`; whole images where the backend shows no sub-rectangle).
+    scales: RenderScales,
     /// The changes so far (capacity [`HISTORY`], never grown).
     pub history: Vec<GovernorChange>,
 }
@@ -175,8 +176,10 @@ impl Governed {
                 .map_or("the frame period".to_string(), |b| format!("{b:?}")),
             caps.supersampling,
             caps.foveation,
-            caps.render_rect
-                .map_or("no".to_string(), |s| format!("from {s}")),
+            caps.render_rect.map_or("no".to_string(), |s| format!(
+                "{} of the recommended size in images of {}",
+                s.start, s.images
+            )),
             caps.lod
         );
         Some(Self {
@@ -184,7 +187,7 @@ impl Governed {
             options,
             supersampling: renderer.supersampling,
             preset,
-            image_scale: caps.render_rect.unwrap_or(1.0),
+            scales: caps.render_rect.unwrap_or(RenderScales::whole(1.0)),
             history: Vec::with_capacity(HISTORY),
         })
     }
@@ -256,7 +259,7 @@ impl Governed {
         if !xr.set_foveation_boost(boost) && boost && xr.governor_caps().foveation {
             log::warn!("GPU-time governor: the foveation change was not applied");
         }
-        let share = render_rect_share(level, self.image_scale);
+        let share = render_rect_share(level, self.scales);
         let rect = scaled_rect(xr.targets().extent, share);
         if xr.set_render_rect(rect) {
             renderer.set_render_area(rect)?;

@@ -252,6 +252,11 @@ impl<'a> Frames<'a> {
             .and_then(|f| f.interaction)
             .map(|c| c.cells);
         let mut renderer = OceanRenderer::new(xr.gpu(), &opts.ocean, &lod, xr.targets(), settings)?;
+        // The part of the images the backend shows (a headset's default render scale).
+        if let Err(e) = renderer.set_render_area(xr.render_rect()) {
+            renderer.destroy(xr.gpu());
+            return Err(e.into());
+        }
         let readback = if opts.capture.is_empty() {
             None
         } else {

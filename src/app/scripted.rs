@@ -327,6 +327,9 @@ impl FrameLoop for ScriptedUser<'_> {
     fn set_render_rect(&mut self, rect: ash::vk::Rect2D) -> bool {
         self.inner.set_render_rect(rect)
     }
+    fn render_rect(&self) -> ash::vk::Rect2D {
+        self.inner.render_rect()
+    }
     fn report_governor(&mut self, state: GovernorState) {
         self.inner.report_governor(state);
     }

@@ -103,8 +103,9 @@ impl Frames<'_> {
         old.destroy(xr.gpu());
         *lod = new_lod;
         log::info!("quality preset: {}", preset.name());
-        // The new renderer draws the whole image with the user's settings: the governor's
-        // level goes back on.
+        // The new renderer draws the whole image with the user's settings: the part the
+        // backend shows, and the governor's level, go back on.
+        renderer.set_render_area(xr.render_rect())?;
         if let Some(g) = self.governed.as_ref() {
             g.apply(g.level(), &mut self.renderer, &mut *self.xr)?;
         }

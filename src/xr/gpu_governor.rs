@@ -9,8 +9,12 @@
 //! A pure, allocation-free state machine: per rendered frame it takes the GPU pass time
 //! (from timestamps; `None` when there was none), the frame period and a monotonic time in
 //! seconds (passed in, so tests script time). The levels ([`QualityStep`]) are stepped one at
-//! a time, cheapest loss first:
+//! a time, cheapest loss first, from [`QualityStep::Full`], the settings as configured:
 //!
+//! 0. [`QualityStep::FullSize`], *above* the start: the eye images at the runtime's
+//!    recommended size where the headset's default scale is under it (a Quest 2 starts at
+//!    0.9 of it, by a GPU model no headset has confirmed: where the GPU has room, the image
+//!    takes it back);
 //! 1. [`QualityStep::NoSupersampling`]: the specular AA's supersampling off where it is on
 //!    (the desktop; about a third of the pass) and the normal maps' anisotropic filtering (the
 //!    filtered lobe stays);
@@ -21,7 +25,7 @@
 //! 4. [`QualityStep::LodDown`]: the LOD quality preset one lower (a rebuild: rare).
 //!
 //! Levels that cannot be applied (supersampling already off, no foveation to raise, no
-//! sub-rectangle on a window) are left out when the governor is made ([`GpuGovernor::new`]), so a step is never wasted.
+//! sub-rectangle on a window, a scale the images start at or under) are left out when the governor is made ([`GpuGovernor::new`]), so a step is never wasted.
 //!
 //! Rules (constants on [`GpuGovernor`]): the statistic is the median of the GPU time as a
 //! share of the period over the last [`GpuGovernor::WINDOW_S`] (robust to single spikes); it
@@ -36,11 +40,15 @@
 
 use std::time::Duration;
 
-use ash::vk;
+use super::render_scale::RenderScales;
 
-/// A quality level, from the best ([`QualityStep::Full`]) to the cheapest.
+/// A quality level, from the best ([`QualityStep::FullSize`]) to the cheapest; the governor
+/// starts at [`QualityStep::Full`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum QualityStep {
+    /// Everything as configured, the eye images at the runtime's recommended size (where the
+    /// configured scale is smaller and the images leave room: [`RenderScales`]).
+    FullSize,
     /// Everything as configured.
     Full,
     /// The specular AA's supersampling and the normal maps' anisotropic filtering off.
@@ -57,7 +65,8 @@ pub enum QualityStep {
 
 impl QualityStep {
     /// Every level, best first.
-    pub const ALL: [QualityStep; 6] = [
+    pub const ALL: [QualityStep; LEVELS] = [
+        QualityStep::FullSize,
         QualityStep::Full,
         QualityStep::NoSupersampling,
         QualityStep::FoveationUp,
@@ -69,6 +78,7 @@ impl QualityStep {
     /// A short name for logs, the title bar and the session summary.
     pub fn name(self) -> &'static str {
         match self {
+            QualityStep::FullSize => "full-size",
             QualityStep::Full => "full",
             QualityStep::NoSupersampling => "no-ssaa",
             QualityStep::FoveationUp => "foveation+1",
@@ -78,13 +88,16 @@ impl QualityStep {
         }
     }
 
-    /// The render scale at this level: a share of the runtime's recommended eye size on both
-    /// sides (1: the swapchain's full size, whatever its own scale).
-    pub fn render_scale(self) -> f32 {
+    /// The render scale at this level: the eye images' drawn share of the runtime's
+    /// recommended size on both sides, for images of `scales`.
+    pub fn render_scale(self, scales: RenderScales) -> f32 {
         match self {
-            QualityStep::Full | QualityStep::NoSupersampling | QualityStep::FoveationUp => 1.0,
-            QualityStep::Scale85 => 0.85,
-            QualityStep::Scale70 | QualityStep::LodDown => 0.7,
+            QualityStep::FullSize => scales.images.min(1.0).max(scales.start),
+            QualityStep::Full | QualityStep::NoSupersampling | QualityStep::FoveationUp => {
+                scales.start
+            }
+            QualityStep::Scale85 => scales.start.min(0.85),
+            QualityStep::Scale70 | QualityStep::LodDown => scales.start.min(0.7),
         }
     }
 
@@ -92,6 +105,9 @@ impl QualityStep {
         self as usize
     }
 }
+
+/// How many quality levels there are.
+const LEVELS: usize = 7;
 
 /// What the backend lets the governor change besides the renderer's own settings.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -101,13 +117,13 @@ pub struct GovernorCaps {
     pub supersampling: bool,
     /// Fixed foveation can be raised one level ([`QualityStep::FoveationUp`]).
     pub foveation: bool,
-    /// `Some(scale)`: the eye images can be shown from a sub-rectangle
-    /// ([`QualityStep::Scale85`], [`QualityStep::Scale70`]), and `scale` is the swapchain's size
-    /// as a share of the runtime's recommended one (its resolution scale: 0.9 on a Quest 2).
-    /// The steps' scales are shares of the recommended size, as Meta's render scale is
-    /// (VRC.Quest.Performance.4 recommends at least 0.85), so a step the images are already
-    /// at or under is left out ([`render_rect_share`]).
-    pub render_rect: Option<f32>,
+    /// `Some(scales)`: the eye images can be shown from a sub-rectangle
+    /// ([`QualityStep::FullSize`], [`QualityStep::Scale85`], [`QualityStep::Scale70`]) of
+    /// images `scales.images` of the runtime's recommended size, `scales.start` of it drawn as
+    /// configured. The steps' scales are shares of the recommended size, as Meta's render
+    /// scale is (VRC.Quest.Performance.4 recommends at least 0.85), so a step that would not
+    /// change the drawn size is left out ([`render_rect_share`]).
+    pub render_rect: Option<RenderScales>,
     /// A lower LOD preset exists ([`QualityStep::LodDown`]; the app's to say).
     pub lod: bool,
 }
@@ -132,7 +148,7 @@ const MIN_SAMPLES: usize = 8;
 /// The GPU-time governor (see the module documentation).
 #[derive(Clone, Debug)]
 pub struct GpuGovernor {
-    available: [bool; 6],
+    available: [bool; LEVELS],
     level: QualityStep,
     /// (time s, GPU time / period) of recent frames; `len` valid, `head` the next write.
     samples: [(f64, f32); RING],
@@ -144,9 +160,9 @@ pub struct GpuGovernor {
     /// Since when the median has been under [`Self::UP_SHARE`].
     headroom_since: Option<f64>,
     /// Per level: stepping up to it is blocked until this time.
-    blocked_until: [f64; 6],
+    blocked_until: [f64; LEVELS],
     /// Per level: the current back-off after a reversed step up to it (s).
-    backoff: [f64; 6],
+    backoff: [f64; LEVELS],
     changes: u32,
 }
 
@@ -168,16 +184,20 @@ impl GpuGovernor {
     /// The longest back-off (s).
     pub const MAX_BACKOFF_S: f64 = 64.0;
 
-    /// A governor at [`QualityStep::Full`] that uses only the levels `caps` allow.
+    /// A governor at [`QualityStep::Full`] (the configured settings) that uses only the
+    /// levels `caps` allow.
     pub fn new(caps: GovernorCaps) -> Self {
-        let mut available = [true; 6];
+        let mut available = [true; LEVELS];
         available[QualityStep::NoSupersampling.index()] = caps.supersampling;
         available[QualityStep::FoveationUp.index()] = caps.foveation;
-        for step in [QualityStep::Scale85, QualityStep::Scale70] {
-            available[step.index()] = caps
-                .render_rect
-                .is_some_and(|base| render_rect_share(step, base) < 1.0);
-        }
+        let size = |step: QualityStep| caps.render_rect.map(|s| (step.render_scale(s), s.start));
+        available[QualityStep::FullSize.index()] =
+            size(QualityStep::FullSize).is_some_and(|(step, start)| step > start);
+        available[QualityStep::Scale85.index()] =
+            size(QualityStep::Scale85).is_some_and(|(step, start)| step < start);
+        available[QualityStep::Scale70.index()] = size(QualityStep::Scale70)
+            .zip(size(QualityStep::Scale85))
+            .is_some_and(|((step, start), (above, _))| step < start && step < above);
         available[QualityStep::LodDown.index()] = caps.lod;
         Self {
             available,
@@ -188,8 +208,8 @@ impl GpuGovernor {
             last_change: f64::NEG_INFINITY,
             last_up: false,
             headroom_since: None,
-            blocked_until: [f64::NEG_INFINITY; 6],
-            backoff: [Self::BACKOFF_S; 6],
+            blocked_until: [f64::NEG_INFINITY; LEVELS],
+            backoff: [Self::BACKOFF_S; LEVELS],
             changes: 0,
         }
     }
@@ -303,31 +323,13 @@ impl GpuGovernor {
     }
 }
 
-/// The share of the swapchain's images (each side) that `step` draws when the swapchain is
-/// `base` of the runtime's recommended size: the step's render scale over `base`, at most 1.
-pub fn render_rect_share(step: QualityStep, base: f32) -> f32 {
-    if base > 0.0 {
-        (step.render_scale() / base).min(1.0)
+/// The share of the swapchain's images (each side) that `step` draws, for images of
+/// `scales`: the step's render scale over the images', at most 1.
+pub fn render_rect_share(step: QualityStep, scales: RenderScales) -> f32 {
+    if scales.images > 0.0 {
+        (step.render_scale(scales) / scales.images).min(1.0)
     } else {
         1.0
-    }
-}
-
-/// The centred sub-rectangle of an eye image of `extent` rendered at `scale` (at least 1×1
-/// pixel): its centre stays where the fixed foveation's full-rate centre is.
-pub fn scaled_rect(extent: vk::Extent2D, scale: f32) -> vk::Rect2D {
-    let side =
-        |full: u32| ((full as f32 * scale.clamp(0.0, 1.0)).round() as u32).clamp(1, full.max(1));
-    let (w, h) = (side(extent.width), side(extent.height));
-    vk::Rect2D {
-        offset: vk::Offset2D {
-            x: ((extent.width - w) / 2) as i32,
-            y: ((extent.height - h) / 2) as i32,
-        },
-        extent: vk::Extent2D {
-            width: w,
-            height: h,
-        },
     }
 }
 
@@ -341,7 +343,7 @@ mod tests {
         GovernorCaps {
             supersampling: true,
             foveation: true,
-            render_rect: Some(1.0),
+            render_rect: Some(RenderScales::whole(1.0)),
             lod: true,
         }
     }
@@ -409,7 +411,9 @@ mod tests {
         let mut g = GpuGovernor::new(all());
         let changes = run(&mut g, 0..72 * 20, |_| Some(3.0));
         let levels: Vec<_> = changes.iter().map(|c| c.1).collect();
-        assert_eq!(levels, QualityStep::ALL[1..]);
+        // Every level below the start (the full size is above it, and these images are
+        // drawn whole).
+        assert_eq!(levels, QualityStep::ALL[2..]);
         assert!(min_gap(&changes) >= 1.0);
         assert!(g.state().exhausted);
     }
@@ -523,43 +527,47 @@ mod tests {
 
     #[test]
     fn render_scale_steps_are_shares_of_the_recommended_size() {
-        // A Quest 2's swapchain at 0.9 of the recommended size: the 0.85 step draws 0.85 of
-        // the recommended size, 0.944 of the images.
-        let share = render_rect_share(QualityStep::Scale85, 0.9);
-        assert!((share - 0.85 / 0.9).abs() < 1e-6);
-        assert!((render_rect_share(QualityStep::Scale70, 0.9) - 0.7 / 0.9).abs() < 1e-6);
-        assert_eq!(render_rect_share(QualityStep::FoveationUp, 0.9), 1.0);
-        let shown = |base: f32| {
+        // A Quest 2 by default: images at the recommended size, 0.9 of them drawn.
+        let quest2 = RenderScales {
+            images: 1.0,
+            start: 0.9,
+        };
+        let share = |step, scales| render_rect_share(step, scales);
+        assert_eq!(share(QualityStep::FullSize, quest2), 1.0);
+        assert!((share(QualityStep::Full, quest2) - 0.9).abs() < 1e-6);
+        assert!((share(QualityStep::Scale85, quest2) - 0.85).abs() < 1e-6);
+        assert!((share(QualityStep::Scale70, quest2) - 0.7).abs() < 1e-6);
+        // A swapchain the user asked to be 0.9: the 0.85 step draws 0.944 of it.
+        let chosen = RenderScales::whole(0.9);
+        assert!((share(QualityStep::Scale85, chosen) - 0.85 / 0.9).abs() < 1e-6);
+        assert!((share(QualityStep::Scale70, chosen) - 0.7 / 0.9).abs() < 1e-6);
+        assert_eq!(share(QualityStep::FoveationUp, chosen), 1.0);
+        assert_eq!(share(QualityStep::FullSize, chosen), 1.0);
+        let shown = |scales: RenderScales, load: f64| {
             let mut g = GpuGovernor::new(GovernorCaps {
-                render_rect: Some(base),
+                render_rect: Some(scales),
                 ..GovernorCaps::default()
             });
-            let changes = run(&mut g, 0..72 * 20, |_| Some(2.0));
+            let changes = run(&mut g, 0..72 * 20, |_| Some(load));
             changes.iter().map(|c| c.1).collect::<Vec<_>>()
         };
-        assert_eq!(shown(0.9), [QualityStep::Scale85, QualityStep::Scale70]);
-        // Images already at or under a step's scale leave it out.
-        assert_eq!(shown(0.85), [QualityStep::Scale70]);
-        assert!(shown(0.7).is_empty());
-    }
-
-    #[test]
-    fn scaled_rects_are_centred_and_never_empty() {
-        let e = vk::Extent2D {
-            width: 1440,
-            height: 1584,
-        };
-        let r = scaled_rect(e, 0.7);
-        assert_eq!((r.extent.width, r.extent.height), (1008, 1109));
-        assert_eq!((r.offset.x, r.offset.y), (216, 237));
-        assert_eq!(scaled_rect(e, 1.0).extent, e);
-        let tiny = scaled_rect(
-            vk::Extent2D {
-                width: 1,
-                height: 1,
-            },
-            0.1,
+        // Under load the steps go down from the start; with room, up to the full size (and
+        // only there: the configured scale is where it starts, not a ceiling).
+        assert_eq!(
+            shown(quest2, 2.0),
+            [QualityStep::Scale85, QualityStep::Scale70]
         );
-        assert_eq!((tiny.extent.width, tiny.offset.x), (1, 0));
+        assert_eq!(shown(quest2, 0.3), [QualityStep::FullSize]);
+        // Images the user sized: nothing above them; steps at or above the start left out.
+        assert!(shown(chosen, 0.3).is_empty());
+        assert_eq!(
+            shown(chosen, 2.0),
+            [QualityStep::Scale85, QualityStep::Scale70]
+        );
+        assert_eq!(
+            shown(RenderScales::whole(0.85), 2.0),
+            [QualityStep::Scale70]
+        );
+        assert!(shown(RenderScales::whole(0.7), 2.0).is_empty());
     }
 }

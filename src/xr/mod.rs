@@ -14,6 +14,7 @@ pub mod desktop;
 pub mod gpu_governor;
 pub mod locomotion;
 pub mod openxr;
+pub mod render_scale;
 
 use crate::base::EyeView;
 use crate::lod::QualityPreset;
@@ -231,6 +232,16 @@ pub trait FrameLoop {
     /// whole image, so the renderer must draw all of it).
     fn set_render_rect(&mut self, _rect: ash::vk::Rect2D) -> bool {
         false
+    }
+
+    /// The part of each eye image shown now: what [`FrameLoop::set_render_rect`] last set, at
+    /// the start the configured render scale's centred rectangle of images that leave room
+    /// above it (`GovernorCaps::render_rect`). The renderer draws it. Default: the whole image.
+    fn render_rect(&self) -> ash::vk::Rect2D {
+        ash::vk::Rect2D {
+            offset: ash::vk::Offset2D::default(),
+            extent: self.targets().extent,
+        }
     }
 
     /// The GPU-time governor's state after a change (the OpenXR summary; with levels left,

@@ -151,3 +151,93 @@ fn bad_fault_and_budget_values_are_rejected() {
         );
     }
 }
+
+/// A headset whose default render scale is under its recommended size (a Quest 2's 0.9 of
+/// images at the recommended size): the renderer draws that part from the first frame; with
+/// room on the GPU the governor steps up to the whole image, under a load down from it, and
+/// back up once the load is gone. No validation message (`gpu::render_set_up` fails on one).
+#[test]
+fn a_scaled_start_steps_up_to_the_full_size_with_room_and_down_under_load() {
+    // The load begins more than `REVERSAL_S` after the step up, so it is not taken for the
+    // step up failing (which would hold the full size back for a back-off).
+    const FROM: f64 = 5.5;
+    const TO: f64 = 8.0;
+    let late = 72 * 3 + 36;
+    let mut opts = gpu::small_options(StereoMode::TwoPass, vec![0, late]);
+    opts.governor = GovernorOptions {
+        enabled: true,
+        budget: Some(Duration::from_millis(100)),
+        fault: Some(GpuFault {
+            extra: Duration::from_millis(200),
+            from: FROM,
+            to: TO,
+        }),
+    };
+    let frames = 72 * 14;
+    let mut hooks = gpu::Collect(Vec::new());
+    let report = gpu::render_set_up(
+        &opts,
+        gpu::standing(3.0, 0.0, -0.1),
+        frames,
+        64,
+        64,
+        &mut hooks,
+        |xr| xr.draw_scaled(0.9),
+    );
+    let changes = &report.governor;
+    println!("{changes:?}");
+    let first = changes.first().expect("a change");
+    assert_eq!(first.level, QualityStep::FullSize, "{changes:?}");
+    assert!(
+        (2.0..3.0).contains(&first.time),
+        "up after {} s of room: {changes:?}",
+        first.time
+    );
+    let down = changes
+        .iter()
+        .find(|c| c.time >= FROM)
+        .expect("a step under the load");
+    assert_eq!(down.level, QualityStep::Full, "{changes:?}");
+    assert!(down.time < FROM + 1.0, "{changes:?}");
+    assert!(
+        changes.iter().any(|c| c.level == QualityStep::Scale85),
+        "{changes:?}"
+    );
+    let last = changes.last().unwrap();
+    assert_eq!(last.level, QualityStep::FullSize, "{changes:?}");
+    assert!(last.time < TO + 6.0, "{changes:?}");
+    // The first frame drew the centred 0.9 (58 × 58 of 64 × 64, 3 pixels in), the late one
+    // (at the full size) all of it: their borders differ, their centres hardly.
+    let [start, full] = [&hooks.0[0], &hooks.0[1]];
+    assert_eq!((start.index, full.index), (0, late));
+    for f in [start, full] {
+        if std::env::var_os("VR_OCEAN_SAVE_FRAMES").is_some() {
+            eprintln!(
+                "saved {}",
+                f.save(&format!("governor-scaled-{}", f.index)).display()
+            );
+        }
+    }
+    // Mean absolute difference (codes) of rows `rows` of both eyes, over the middle columns:
+    // the sky, which changes little in 3.5 s (inside, the 0.9 rectangle's rows show the sky a
+    // little higher up than the whole image's: about 10 codes).
+    let difference = |rows: std::ops::Range<u32>| {
+        let (mut sum, mut n) = (0.0, 0.0);
+        for eye in 0..2 {
+            for y in rows.clone() {
+                for x in 8..56 {
+                    let (a, b) = (start.pixel(eye, x, y), full.pixel(eye, x, y));
+                    sum += (0..3).map(|c| f64::from(a[c].abs_diff(b[c]))).sum::<f64>() / 3.0;
+                    n += 1.0;
+                }
+            }
+        }
+        sum / n
+    };
+    let (border, inside) = (difference(0..3), difference(3..6));
+    println!("top rows against the full size: border {border:.1}, inside {inside:.1} codes");
+    assert!(
+        border > 3.0 * inside.max(5.0),
+        "the first frame drew the 0.9 rectangle: border {border:.1}, inside {inside:.1}"
+    );
+}

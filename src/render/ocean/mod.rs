@@ -170,9 +170,9 @@ impl OceanRenderer {
     }
 
     /// This frame's collapse of the mesh by its thickness on the screen, for the finer of
-    /// the two eyes at the full eye width, or the one the settings size it for (a lowered
-    /// render scale draws fewer pixels of the same view: the mesh stays as fine as at full
-    /// size).
+    /// the two eyes at the drawn width, or the one the settings size it for (a lowered render
+    /// scale draws fewer pixels of the same view, so its triangles are thinner on the screen:
+    /// the mesh collapses as the pixels do, as `gpu-budget` counts a scaled headset's eye).
     fn screen_collapse(width: u32, input: &FrameInput<'_>) -> ScreenCollapse {
         let ppr = input
             .eyes
@@ -217,7 +217,11 @@ impl OceanRenderer {
         } else {
             None
         };
-        let width = self.settings.mesh_eye_width.unwrap_or(self.extent.width);
+        // The pixels drawn (a render scale's sub-rectangle has the same field of view).
+        let width = self
+            .settings
+            .mesh_eye_width
+            .unwrap_or(self.area.extent.width);
         let collapse = Self::screen_collapse(width, input);
         let mut globals = self
             .pass

@@ -84,7 +84,8 @@ pub struct RendererSettings {
     /// fragment shader, which shades the same but writes a tally. Never in a user's run.
     pub count_paths: bool,
     /// The eye width (pixels) the far mesh's collapse by its thickness on the screen is sized
-    /// for ([`crate::lod::ScreenCollapse`]); `None`: the eye image's own. Comparisons across
+    /// for ([`crate::lod::ScreenCollapse`]); `None`: the drawn area's (a render scale's
+    /// sub-rectangle, else the whole image). Comparisons across
     /// sizes (a supersampled reference, counts taken at a fraction of the headset's size) set
     /// it so that every image draws the same surface.
     pub mesh_eye_width: Option<u32>,

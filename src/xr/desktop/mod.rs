@@ -15,6 +15,7 @@ use ash::vk;
 use glam::{Quat, Vec3};
 
 use super::gpu_governor::GovernorCaps;
+use super::render_scale::{scaled_rect, RenderScales};
 use super::{Acquired, FrameLoop, FrameState, Tweak, XrError, MAX_TWEAKS};
 use crate::base::{EyeView, Fov};
 use crate::render::memory::{Image, ImageDesc};
@@ -224,6 +225,10 @@ pub struct HeadlessXr {
     frame: u64,
     /// The comfort vignette shown in every frame (0: none).
     vignette: f32,
+    /// The images' and the configured drawn share of their size ([`HeadlessXr::draw_scaled`]).
+    scales: RenderScales,
+    /// The part of the images drawn now.
+    shown: vk::Rect2D,
 }
 
 impl HeadlessXr {
@@ -244,7 +249,22 @@ impl HeadlessXr {
             settle: 0,
             frame: 0,
             vignette: 0.0,
+            scales: RenderScales::whole(1.0),
+            shown: vk::Rect2D {
+                offset: vk::Offset2D::default(),
+                extent: size.extent(),
+            },
         })
+    }
+
+    /// Draws `start` of the images (each side, centred) as configured, as a headset whose
+    /// default render scale is under its recommended size does (`RenderScales`: the images
+    /// at the recommended size): the GPU-time governor may then step up to the whole image
+    /// ([`crate::xr::gpu_governor::QualityStep::FullSize`]) as well as down. For testing
+    /// that path; read-backs copy the whole image, its border stale.
+    pub fn draw_scaled(&mut self, start: f32) {
+        self.scales = RenderScales { images: 1.0, start };
+        self.shown = scaled_rect(self.swapchain.extent(), start);
     }
 
     /// Shows the comfort vignette at `strength` (0 to 1) in every frame, as a headset's
@@ -333,13 +353,18 @@ impl FrameLoop for HeadlessXr {
     /// steps apply (read-backs still copy the whole image, its border then stale).
     fn governor_caps(&self) -> GovernorCaps {
         GovernorCaps {
-            render_rect: Some(1.0),
+            render_rect: Some(self.scales),
             ..GovernorCaps::default()
         }
     }
 
-    fn set_render_rect(&mut self, _rect: vk::Rect2D) -> bool {
+    fn set_render_rect(&mut self, rect: vk::Rect2D) -> bool {
+        self.shown = rect;
         true
+    }
+
+    fn render_rect(&self) -> vk::Rect2D {
+        self.shown
     }
 }
 

@@ -55,6 +55,7 @@ use self::stats::FrameStats;
 pub use self::stats::Summary;
 use super::gpu_governor::{GovernorCaps, GovernorState};
 use super::locomotion::Locomotion;
+use super::render_scale::RenderScales;
 use super::{Acquired, FrameLoop, FrameState, XrError};
 use crate::lod::QualityPreset;
 use crate::render::{GpuContext, TargetImages, Validation};
@@ -148,8 +149,9 @@ pub struct OpenXr {
     options: OpenXrOptions,
     /// Per-eye image size.
     extent: vk::Extent2D,
-    /// The eye images' share of the runtime's recommended size (each side).
-    resolution_scale: f32,
+    /// The eye images' share of the runtime's recommended size (each side) and the share drawn
+    /// as configured.
+    scales: RenderScales,
     /// The part of each eye image drawn and shown (the GPU-time governor's render scale).
     render_rect: vk::Rect2D,
     /// The fixed foveation started with, and whether the governor raised it a level.
@@ -389,7 +391,7 @@ impl FrameLoop for OpenXr {
         let (base, _) = self.foveation;
         GovernorCaps {
             foveation: self.session().foveation.is_some() && base.higher().is_some(),
-            render_rect: Some(self.resolution_scale),
+            render_rect: Some(self.scales),
             // The app's to say.
             supersampling: false,
             lod: false,
@@ -414,6 +416,10 @@ impl FrameLoop for OpenXr {
             self.foveation.1 = boost;
         }
         applied
+    }
+
+    fn render_rect(&self) -> vk::Rect2D {
+        self.render_rect
     }
 
     fn set_render_rect(&mut self, rect: vk::Rect2D) -> bool {

@@ -118,9 +118,11 @@ impl Headset {
     ///
     /// The Quest 2 renders at 0.9 of the runtime's recommended eye size (1296 × 1426 of
     /// 1440 × 1584): by the Adreno-compiler model (`vr-ocean gpu-budget`, issue 43) a standing
-    /// eye on the top deck cost 86 % of the 13.9 ms budget at full size and 72 % at 0.9, the
-    /// other views 69-71 % and 56-62 %; the GPU-time governor's render-scale steps apply on top
-    /// of it, and `--resolution-scale` overrides it.
+    /// eye on the top deck cost 86 % of the 13.9 ms budget at full size and 73 % at 0.9, the
+    /// other views 56-60 %. Its images are made at the recommended size and 0.9 of them
+    /// drawn, so the GPU-time governor can step up to the whole image where the GPU has room
+    /// (`QualityStep::FullSize`) as well as down; `--resolution-scale` sizes the images
+    /// instead.
     pub fn defaults(self) -> DeviceDefaults {
         match self {
             Headset::Quest2 => DeviceDefaults {

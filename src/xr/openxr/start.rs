@@ -3,7 +3,6 @@
 //! Quest extensions and the frame loop's state, in that order; any failure is an error that
 //! names what is missing, and what was made so far is dropped in reverse.
 
-use ash::vk;
 use glam::Vec3;
 use openxr as xr;
 
@@ -18,6 +17,7 @@ use super::stats::{FrameStats, Summary};
 use super::{frame, instance, panel, swapchain, threads, vulkan, OpenXr, OpenXrOptions};
 use crate::render::{ContextOptions, GpuContext};
 use crate::xr::locomotion::{Locomotion, LocomotionSettings};
+use crate::xr::render_scale::{scaled_rect, RenderScales};
 use crate::xr::XrError;
 
 impl OpenXr {
@@ -72,9 +72,16 @@ impl OpenXr {
         let headset = Headset::from_system_name(&sys_props.system_name);
         let defaults = headset.defaults();
         log::info!("OpenXR system: {} ({headset:?})", sys_props.system_name);
-        let scale = options
-            .resolution_scale
-            .unwrap_or(defaults.resolution_scale);
+        // A scale the user chose sizes the images; the headset's default under the
+        // recommended size is drawn in images of that size, so that the GPU-time governor can
+        // take the rest where the GPU has room (`QualityStep::FullSize`).
+        let scales = match options.resolution_scale {
+            Some(chosen) => RenderScales::whole(chosen),
+            None => RenderScales {
+                images: defaults.resolution_scale.max(1.0),
+                start: defaults.resolution_scale,
+            },
+        };
         let views = instance
             .enumerate_view_configuration_views(system, xr::ViewConfigurationType::PRIMARY_STEREO)
             .map_err(|e| {
@@ -88,7 +95,7 @@ impl OpenXr {
                 views.len()
             )));
         }
-        let extent = swapchain::eye_extent(&views[0], scale).map_err(backend)?;
+        let extent = swapchain::eye_extent(&views[0], scales.images).map_err(backend)?;
         let requirements = instance
             .graphics_requirements::<xr::Vulkan>(system)
             .call("xrGetVulkanGraphicsRequirements2KHR")?;
@@ -155,11 +162,8 @@ impl OpenXr {
             preset: options.preset.unwrap_or(defaults.preset),
             options,
             extent,
-            resolution_scale: scale,
-            render_rect: vk::Rect2D {
-                offset: vk::Offset2D::default(),
-                extent,
-            },
+            scales,
+            render_rect: scaled_rect(extent, scales.start / scales.images),
             foveation: (level, false),
             gpu_levels_left: false,
             locomotion: Locomotion::new(
