@@ -1,8 +1,10 @@
 //! Sea states that change smoothly (issue 31, item 3): Beaufort 3 to 8 while stepping. The
 //! step's worst time during the change stays within 1.5x of the median before it, Hs rises
 //! monotonically to the new state's, and the coarsest patch's growth (257 -> 514 m) changes
-//! nothing the surface shows. One test in its own binary: its timings want the CPU alone.
-//! Run with `--nocapture` for the numbers in BENCHMARKS.md.
+//! nothing the surface shows. Its timings want the CPU alone: `cargo xtask test` runs it in
+//! the frame-time step, one test at a time, and skips it among the host's tests (which run
+//! beside each other: there one CI run read 1.54x, alone 1.23x). Run with `--nocapture` for
+//! the numbers in BENCHMARKS.md.
 
 use std::time::{Duration, Instant};
 
