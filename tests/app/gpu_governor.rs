@@ -182,7 +182,7 @@ fn a_scaled_start_steps_up_to_the_full_size_with_room_and_down_under_load() {
         64,
         64,
         &mut hooks,
-        |xr| xr.draw_scaled(0.9),
+        |xr| xr.draw_scaled(0.9).unwrap(),
     );
     let changes = &report.governor;
     println!("{changes:?}");

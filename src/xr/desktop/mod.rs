@@ -261,10 +261,17 @@ impl HeadlessXr {
     /// default render scale is under its recommended size does (`RenderScales`: the images
     /// at the recommended size): the GPU-time governor may then step up to the whole image
     /// ([`crate::xr::gpu_governor::QualityStep::FullSize`]) as well as down. For testing
-    /// that path; read-backs copy the whole image, its border stale.
-    pub fn draw_scaled(&mut self, start: f32) {
+    /// that path; read-backs copy the whole image, its border stale. `start` must be in
+    /// (0, 1].
+    pub fn draw_scaled(&mut self, start: f32) -> Result<(), XrError> {
+        if !(start > 0.0 && start <= 1.0) {
+            return Err(XrError::Backend(format!(
+                "drawn share {start} of the eye images: must be in (0, 1]"
+            )));
+        }
         self.scales = RenderScales { images: 1.0, start };
         self.shown = scaled_rect(self.swapchain.extent(), start);
+        Ok(())
     }
 
     /// Shows the comfort vignette at `strength` (0 to 1) in every frame, as a headset's
