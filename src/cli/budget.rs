@@ -139,7 +139,8 @@ fn measure(
         .ok_or("the renderer returned no counts (the device lacks pipeline statistics)")?;
     // Counted at a smaller size: scale back to the headset's pixels.
     let (width, height) = scaled_eye(a, model);
-    let ratio = (model.eye.0 as f64 * model.eye.1 as f64) / (width as f64 * height as f64);
+    let (eye_width, eye_height) = model.eye();
+    let ratio = (eye_width as f64 * eye_height as f64) / (width as f64 * height as f64);
     if ratio != 1.0 {
         for c in [
             &mut counts.sky,

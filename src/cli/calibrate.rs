@@ -156,7 +156,6 @@ pub fn calibrate_cmd(a: &GpuBudgetArgs, costs: &PathCosts, views: &[&StandardVie
     // scale: the calibration predicts the device it runs on, and its recorded runs and
     // ceilings were measured at that size.
     let model = &budget::HeadsetModel {
-        eye: a.headset.model().recommended_eye,
         resolution_scale: 1.0,
         ..*a.headset.model()
     };
@@ -173,7 +172,7 @@ pub fn calibrate_cmd(a: &GpuBudgetArgs, costs: &PathCosts, views: &[&StandardVie
         Some(max) => wanted.min(max as u32).max(1),
         None => 1,
     };
-    let (width, height) = model.eye;
+    let (width, height) = model.eye();
     let settings = CalibrationSettings {
         pass: PassLayout {
             mode: stereo_of(cpu),
@@ -263,7 +262,7 @@ impl Measuring<'_> {
             device,
         } = *self;
         settle(gpu, cal)?;
-        let kernels = run_kernels(a, gpu, cal, taps, model.eye)?;
+        let kernels = run_kernels(a, gpu, cal, taps, model.eye())?;
         let rates = DeviceRates::fit(device, &kernels)?;
         if !a.json {
             eprintln!("{device}: {rates:?}");

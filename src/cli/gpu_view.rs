@@ -172,7 +172,7 @@ pub fn render_view(
         .ok_or_else(|| format!("{}: {} MSAA samples", model.name, model.msaa))?;
     let (width, height) = scaled_eye(a, model);
     // The headset's surface at any `--scale`: its far mesh collapsed for the headset's pixels.
-    opts.renderer.mesh_eye_width = Some(model.eye.0);
+    opts.renderer.mesh_eye_width = Some(model.eye().0);
     let size = EyeSize::new(width, height)?;
     let view = run.view;
     let path = CameraPath::still(glam::Vec3::new(0.0, view.height, 0.0), view.yaw, view.pitch);
@@ -192,8 +192,9 @@ pub fn render_view(
 
 /// The eye size the views are rendered at: the headset's, scaled by `--scale`.
 pub fn scaled_eye(a: &GpuBudgetArgs, model: &HeadsetModel) -> (u32, u32) {
-    let width = ((model.eye.0 as f32 * a.scale).round() as u32).max(16);
-    let height = ((model.eye.1 as f32 * a.scale).round() as u32).max(16);
+    let (eye_width, eye_height) = model.eye();
+    let width = ((eye_width as f32 * a.scale).round() as u32).max(16);
+    let height = ((eye_height as f32 * a.scale).round() as u32).max(16);
     (width, height)
 }
 

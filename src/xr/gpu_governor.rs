@@ -190,14 +190,17 @@ impl GpuGovernor {
         let mut available = [true; LEVELS];
         available[QualityStep::NoSupersampling.index()] = caps.supersampling;
         available[QualityStep::FoveationUp.index()] = caps.foveation;
-        let size = |step: QualityStep| caps.render_rect.map(|s| (step.render_scale(s), s.start));
-        available[QualityStep::FullSize.index()] =
-            size(QualityStep::FullSize).is_some_and(|(step, start)| step > start);
-        available[QualityStep::Scale85.index()] =
-            size(QualityStep::Scale85).is_some_and(|(step, start)| step < start);
-        available[QualityStep::Scale70.index()] = size(QualityStep::Scale70)
-            .zip(size(QualityStep::Scale85))
-            .is_some_and(|((step, start), (above, _))| step < start && step < above);
+        // A render-scale step is one where the drawn size differs from the start's (the full
+        // size is never under it, the others never over it).
+        for step in [
+            QualityStep::FullSize,
+            QualityStep::Scale85,
+            QualityStep::Scale70,
+        ] {
+            available[step.index()] = caps
+                .render_rect
+                .is_some_and(|s| step.render_scale(s) != s.start);
+        }
         available[QualityStep::LodDown.index()] = caps.lod;
         Self {
             available,

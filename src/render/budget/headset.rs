@@ -122,7 +122,8 @@ pub fn adreno_estimate(
     let texture_s: f64 =
         q * kept * (work.iter().map(|(k, _, t)| k * t).sum::<f64>() + n(counts.aniso_taps))
             / gpu.samples_per_s;
-    let pixels = 2.0 * headset.eye.0 as f64 * headset.eye.1 as f64;
+    let (width, height) = headset.eye();
+    let pixels = 2.0 * width as f64 * height as f64;
     let store_s = pixels * 4.0 / gpu.bytes_per_s;
     let fragments_s = kept * n(counts.tallied()) / gpu.pixels_per_s;
     let triangles_s = 2.0 * n(counts.clipped_primitives) / gpu.triangles_per_s;
