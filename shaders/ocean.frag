@@ -8,7 +8,8 @@
 //   Fresnel averaged over the slopes the normal does not show (Bruneton et al. 2010), the rest
 //   going to the water body: back-scattered light (greener at grazing views), bubbles below
 //   the foam (parallax), and the sun through thin crests, tinted by water's absorption;
-// - a GGX sun highlight with height-correlated Smith masking-shadowing (Hammon's form);
+// - the sun's glint after Cox & Munk: a Student-t lobe with a Gaussian's core and Smith's
+//   masking-shadowing of Gaussian slopes (`sun_highlight`);
 // - foam: the whitecap coverage thresholds a tiling two-scale pattern (a share c of the
 //   surface turns white), both carried by the surface's drift (`sim::drift`), lit on the
 //   wave's normal, rougher water around it; fog to the sky at the horizon.
@@ -465,19 +466,22 @@ struct Foam {
     mediump vec3 light;  // the foam's radiance where drawn (`foam_light`)
 };
 
-// A shading sample's GGX lobe: α² (full precision: the sun's highlight), α, and √α, the
-// roughness the sky map's levels are prefiltered for. One square root each, shared by the
-// sky's lookup, the mean Fresnel and the highlight.
+// A shading sample's lobe: α², the slope variance the normal does not show (full precision:
+// the sun's highlight), α and 1/α (one reciprocal square root), and √α, the GGX roughness the
+// sky map's levels are prefiltered for; shared by the sky's lookup, the mean Fresnel and the
+// highlight.
 struct Lobe {
     float a2;
     float alpha;
+    float inv_alpha;
     mediump float rough;
 };
 
 Lobe lobe_of(float a2) {
     Lobe l;
     l.a2 = a2;
-    l.alpha = sqrt(a2);
+    l.inv_alpha = inversesqrt(a2);
+    l.alpha = a2 * l.inv_alpha;
     l.rough = sqrt(l.alpha);
     return l;
 }
@@ -533,17 +537,39 @@ SunView sun_view(vec3 v) {
     return s;
 }
 
-// The sun's highlight on normal `n` for lobe `l`, per unit of the sun's illuminance: GGX D,
-// Schlick F at the half vector, and the height-correlated Smith visibility in Hammon's form
-// (GDC 2017: 0.5 / lerp(2 (n·l)(n·v), n·l + n·v, α), within a few percent of the exact one,
-// without its two square roots). D · Vis in one division: α² / (π dd²) · Vis.
+// The sun's highlight on normal `n` for lobe `l`, per unit of the sun's illuminance: Cox &
+// Munk's (1954) glint, D F G2 / (4 n·v), with Schlick F at the half vector.
+// - D: the slopes a Student-t, p(s) ∝ (1 + s²/(3α²))^−4 (peak 1/(π α²), a Gaussian's of
+//   variance α²): GGX is the family's m = 2 member (infinite variance, its tails brighten a
+//   sea far from the sun's path), a Gaussian (Cox & Munk's measured sea) its limit; m = 4
+//   keeps a Gaussian's core at one multiply more than GGX and leaves tails between the two,
+//   which the specular AA's error against the supersampled reference needs (the Gaussian
+//   limit aliased more: 0.601x no-AA facing the sun against 0.573, desktop shading).
+// - G2: Smith's height-correlated masking-shadowing of Gaussian slopes, 1 / (1 + Λv + Λl),
+//   Λ(a) ≈ (1 − a √π / 3)³ / (2 √π a) for a = cot θ / α (the expansion's first terms,
+//   1 / (2√π a) − 1/2 + ..., tapered to zero where the exact Λ nearly is: within 0.006 of it
+//   for every a), one division for the whole; cos θ stands for cot θ, as it is at grazing
+//   angles, where Λ matters. GGX's Smith term (Hammon's form, before) masked a
+//   grazing view and a low sun nearly twice as much (Λ 3.1 against 1.5 at 1.5°): the glitter
+//   column under a 1.5° sun was half of Cox & Munk's and darker than the sky beside the sun
+//   (issue 43).
 float sun_highlight(vec3 n, SunView s, Lobe l) {
-    float ndotv = max(dot(n, s.v), 1e-3);
+    // n·v and n·l; the sun below the facet's horizon gives a = 0 and no glint.
+    vec2 c = vec2(max(dot(n, s.v), 1e-3), max(dot(n, g.sun.xyz), 0.0));
+    vec2 a = c * l.inv_alpha;
+    vec2 t = max(1.0 - 0.59081795 * a, 0.0);
+    vec2 t3 = t * t * t;
+    float aa = a.x * a.y;
+    // D = 3 / (π 3α² cos⁴θh) · x⁻⁴, x = 1 + tan²θh / (3α²) = dd / (3α² cos²θh) with
+    // dd = cos²θh (3α² − 1) + 1 (GGX's, at 3α²): D = 3 (3α²)³ cos⁴θh / (π dd⁴).
     float ndoth = max(dot(n, s.hv), 0.0);
-    float ndotl = max(dot(n, g.sun.xyz), 0.0);
-    float dd = ndoth * ndoth * (l.a2 - 1.0) + 1.0;
-    float smith = mix(2.0 * ndotl * ndotv, ndotl + ndotv, l.alpha);
-    return l.a2 * s.fresnel * ndotl * (0.5 / PI) / (dd * dd * smith + 1e-9);
+    float c2 = ndoth * ndoth;
+    float k = 3.0 * l.a2;
+    float dd = c2 * (k - 1.0) + 1.0;
+    float dd2 = dd * dd;
+    // G2 / (4 n·v) = a_v a_l / (4 n·v (a_v a_l + (t_v³ a_l + t_l³ a_v) / (2√π))).
+    return s.fresnel * (3.0 / (4.0 * PI)) * (k * k * k) * (c2 * c2) * aa
+        / (dd2 * dd2 * c.x * (aa + 0.28209479 * (t3.x * a.y + t3.y * a.x)));
 }
 
 // The light of the water body toward the eye along `v` at height `height` (m above the mean

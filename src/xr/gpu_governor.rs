@@ -13,7 +13,7 @@
 //!
 //! 0. [`QualityStep::FullSize`], *above* the start: the eye images at the runtime's
 //!    recommended size where the headset's default scale is under it (a Quest 2 starts at
-//!    0.9 of it, by a GPU model no headset has confirmed: where the GPU has room, the image
+//!    0.89 of it, by a GPU model no headset has confirmed: where the GPU has room, the image
 //!    takes it back);
 //! 1. [`QualityStep::NoSupersampling`]: the specular AA's supersampling off where it is on
 //!    (the desktop; about a third of the pass) and the normal maps' anisotropic filtering (the
@@ -530,7 +530,7 @@ mod tests {
 
     #[test]
     fn render_scale_steps_are_shares_of_the_recommended_size() {
-        // A Quest 2 by default: images at the recommended size, 0.9 of them drawn.
+        // A start under the recommended size (as a Quest 2's): images at that size, 0.9 drawn.
         let quest2 = RenderScales {
             images: 1.0,
             start: 0.9,

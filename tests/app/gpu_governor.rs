@@ -152,8 +152,8 @@ fn bad_fault_and_budget_values_are_rejected() {
     }
 }
 
-/// A headset whose default render scale is under its recommended size (a Quest 2's 0.9 of
-/// images at the recommended size): the renderer draws that part from the first frame; with
+/// A headset whose default render scale is under its recommended size (a Quest 2 draws 0.89
+/// of images at the recommended size; 0.9 here): the renderer draws that part from the first frame; with
 /// room on the GPU the governor steps up to the whole image, under a load down from it, and
 /// back up once the load is gone. No validation message (`gpu::render_set_up` fails on one).
 #[test]

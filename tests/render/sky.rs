@@ -5,7 +5,8 @@
 //! The path is measured as light (the rendered codes through the inverse tone curve: the knee
 //! compresses a glitter) at a resolution that resolves it (a column under a 1.5° sun is under a
 //! degree wide near the horizon): at 240 px per eye, in display values, it read 1.16-1.33x the
-//! water 15° to its side; in radiance at 480 px it is over 2x.
+//! water 15° to its side; in radiance at 480 px it is over 2x (3.7-3.8x since the sun's glint
+//! follows Cox & Munk, and brighter than the sky beside the sun).
 
 use crate::common;
 
@@ -188,6 +189,13 @@ fn a_low_sun_lays_a_glitter_column_on_the_water() {
             assert!(
                 column >= 1.5 * brighter_side,
                 "no glitter column: {column} vs {sides:?} 15° to the sides"
+            );
+            // Cox & Munk's glint over a Gaussian sea (issue 43): 1.10-1.21x the sky 5-10°
+            // beside the sun; 0.72x with GGX's masking at grazing.
+            assert!(
+                column > sky_beside,
+                "the glitter column ({column}) is darker than the sky beside the sun \
+                 ({sky_beside})"
             );
             // The sky brightest toward the sun at every height down to the horizon.
             for e in [0.3f32, 0.6, 1.0, 2.5, 3.0, 6.0] {

@@ -429,8 +429,8 @@ mod tests {
         assert!(plain.alu < single.alu);
         assert!(vertex.samples >= 3 && vertex.alu > 20);
         // 39-44 % of the water's arithmetic is in relaxed precision (mediump: the body, foam,
-        // the Fresnel weight, the tone map), a third of the supersampled path's (its highlight
-        // is in full); positions and the vertex shader stay in full. The tone curve's knee,
+        // the Fresnel weight, the tone map), 0.3 of the supersampled path's (its highlight,
+        // evaluated four times, is in full: 0.31 since the glint follows Cox & Munk); positions and the vertex shader stay in full. The tone curve's knee,
         // a variant of its own, is relaxed throughout.
         for path in [single, foam, plain] {
             assert!(path.relaxed * 20 >= path.alu * 7, "{path:?}");
@@ -440,7 +440,7 @@ mod tests {
             knee.alu > 10 && knee.relaxed * 4 >= knee.alu * 3,
             "{knee:?}"
         );
-        assert!(super0.relaxed * 3 >= super0.alu, "{super0:?}");
+        assert!(super0.relaxed * 10 >= super0.alu * 3, "{super0:?}");
         assert_eq!(vertex.relaxed, 0);
     }
 

@@ -116,11 +116,11 @@ impl Headset {
     /// headset measurements (none were possible here); the refresh governor steps down at run
     /// time when frames miss.
     ///
-    /// The Quest 2 renders at 0.9 of the runtime's recommended eye size (1296 × 1426 of
+    /// The Quest 2 renders at 0.89 of the runtime's recommended eye size (1282 × 1410 of
     /// 1440 × 1584): by the Adreno-compiler model (`vr-ocean gpu-budget`, issue 43) a standing
-    /// eye on the top deck cost 86 % of the 13.9 ms budget at full size and 73 % at 0.9, the
-    /// other views 56-60 %. Its images are made at the recommended size and 0.9 of them
-    /// drawn, so the GPU-time governor can step up to the whole image where the GPU has room
+    /// eye on the top deck cost 86 % of the 13.9 ms budget at full size and 73 % at 0.9; the
+    /// sun's glint after Cox & Munk added 2 % there, and 0.89 brings it back to 74 %, the other
+    /// views 56-60 %. Its images are made at the recommended size and 0.89 of them drawn, so the GPU-time governor can step up to the whole image where the GPU has room
     /// (`QualityStep::FullSize`) as well as down; `--resolution-scale` sizes the images
     /// instead.
     pub fn defaults(self) -> DeviceDefaults {
@@ -128,7 +128,7 @@ impl Headset {
             Headset::Quest2 => DeviceDefaults {
                 max_refresh_rate: 72.0,
                 foveation: Foveation::High,
-                resolution_scale: 0.9,
+                resolution_scale: 0.89,
                 preset: crate::lod::QualityPreset::Medium,
                 grid: 256,
                 workers_cap: 3,
