@@ -136,7 +136,7 @@ pub const STEPS: &[Step] = &[
     },
     Step {
         name: "test (aarch64/qemu)",
-        header: "CROSS: sim unit tests and the sim target (its laws, both derivative modes) for aarch64-unknown-linux-gnu (NEON path, both derivative modes) under qemu-aarch64-static",
+        header: "CROSS: the unit tests of sim, lod and physics and the sim target (its laws, both derivative modes) for aarch64-unknown-linux-gnu (NEON path) under qemu-aarch64-static",
         run: Run::Cargo(&[
             "test",
             // No audio device: cpal's ALSA would need an arm64 libasound to link against.
@@ -153,6 +153,24 @@ pub const STEPS: &[Step] = &[
             "sim::interaction::tests::towed_sphere_leaves_a_kelvin_wake",
             "--skip",
             "sim::interaction::tests::the_edges_absorb_rings",
+            // 90 s of the layer's decay (5400 steps): 150 of the 396 s the library's tests took
+            // under qemu on Zen 4; the same steps run in the layer's shorter tests.
+            "--skip",
+            "sim::interaction::tests::energy_falls_after_the_sources_stop",
+            // The layers with no code of their own per architecture (every `target_arch` is in
+            // `sim`, `tests/tidy/arch.rs`): the host runs their tests.
+            "--skip",
+            "render::",
+            "--skip",
+            "xr::",
+            "--skip",
+            "app::",
+            "--skip",
+            "audio::",
+            "--skip",
+            "ui::",
+            "--skip",
+            "android::",
         ]),
         slow: true,
         prepare: None,
