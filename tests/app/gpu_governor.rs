@@ -153,9 +153,10 @@ fn bad_fault_and_budget_values_are_rejected() {
 }
 
 /// A headset whose default render scale is under its recommended size (a Quest 2 draws 0.89
-/// of images at the recommended size; 0.9 here): the renderer draws that part from the first frame; with
-/// room on the GPU the governor steps up to the whole image, under a load down from it, and
-/// back up once the load is gone. No validation message (`gpu::render_set_up` fails on one).
+/// of images at the recommended size; 0.9 here): the renderer draws that part from the first
+/// frame; with room on the GPU the governor steps up to the whole image, under a load down from
+/// it, and back up once the load is gone. No validation message (`gpu::render_set_up` fails on
+/// one).
 #[test]
 fn a_scaled_start_steps_up_to_the_full_size_with_room_and_down_under_load() {
     // The load begins more than `REVERSAL_S` after the step up, so it is not taken for the

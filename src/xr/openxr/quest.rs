@@ -120,7 +120,8 @@ impl Headset {
     /// 1440 × 1584): by the Adreno-compiler model (`vr-ocean gpu-budget`, issue 43) a standing
     /// eye on the top deck cost 86 % of the 13.9 ms budget at full size and 73 % at 0.9; the
     /// sun's glint after Cox & Munk added 2 % there, and 0.89 brings it back to 74 %, the other
-    /// views 56-60 %. Its images are made at the recommended size and 0.89 of them drawn, so the GPU-time governor can step up to the whole image where the GPU has room
+    /// views 56-60 %. Its images are made at the recommended size and 0.89 of them drawn, so
+    /// the GPU-time governor can step up to the whole image where the GPU has room
     /// (`QualityStep::FullSize`) as well as down; `--resolution-scale` sizes the images
     /// instead.
     pub fn defaults(self) -> DeviceDefaults {
