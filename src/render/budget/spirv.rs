@@ -430,7 +430,8 @@ mod tests {
         assert!(vertex.samples >= 3 && vertex.alu > 20);
         // 39-44 % of the water's arithmetic is in relaxed precision (mediump: the body, foam,
         // the Fresnel weight, the tone map), 0.3 of the supersampled path's (its highlight,
-        // evaluated four times, is in full: 0.31 since the glint follows Cox & Munk); positions and the vertex shader stay in full. The tone curve's knee,
+        // evaluated four times, is in full: 0.31 since the glint follows Cox & Munk);
+        // positions and the vertex shader stay in full. The tone curve's knee,
         // a variant of its own, is relaxed throughout.
         for path in [single, foam, plain] {
             assert!(path.relaxed * 20 >= path.alu * 7, "{path:?}");
