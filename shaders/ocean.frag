@@ -12,7 +12,8 @@
 //   masking-shadowing of Gaussian slopes (`sun_highlight`);
 // - foam: the whitecap coverage thresholds a tiling two-scale pattern (a share c of the
 //   surface turns white), both carried by the surface's drift (`sim::drift`), lit on the
-//   wave's normal, rougher water around it; fog to the sky at the horizon.
+//   wave's normal, rougher water around it; with anti-aliasing the pattern is read at two
+//   taps over the pixel's footprint (`filtered_foam`); fog to the sky at the horizon.
 //
 // Specular anti-aliasing (g.specular_aa.y = 1). With no temporal filter in a headset, the far
 // sea must not sparkle. The distribution is filtered, not sampled (issue 43): the lobe widens
@@ -320,6 +321,23 @@ mediump float drawn_foam(vec2 xz, vec2 dx, vec2 dy, mediump float c) {
     mediump float far = smoothstep(FOAM_FADE_FROM_LOD, FOAM_FADE_TO_LOD,
                                    log2(max(texels, 1e-6)));
     return mix(sharp, c, far);
+}
+
+// The foam over a pixel of footprint (`dx`, `dy`) with anti-aliasing (issue 43): the mean of
+// two taps of `drawn_foam`, one on each half of the footprint's long axis, each read over half
+// the footprint in both directions. A threshold of a blurred pattern is not the share of the
+// pattern above it: read over a far pixel's whole footprint (along the view, at grazing, tens
+// of the pattern's texels) the pattern's mip is a grey the threshold keeps or drops whole, so
+// far foam came out as smooth coverage or blotches where the pixel holds flecks. Two sharper
+// reads average toward the share: the far band's error facing away from the sun (flecks on
+// breaking crests, the 3x3 reference's) 0.857 -> 0.68 of no-AA's on the headsets' shading
+// (`tests/render/aliasing.rs`); one read with the same finer mip measured 0.81.
+mediump float filtered_foam(vec2 xz, vec2 dx, vec2 dy, mediump float c) {
+    bool x_long = dot(dx, dx) > dot(dy, dy);
+    vec2 half_long = 0.5 * (x_long ? dx : dy);
+    vec2 half_short = 0.5 * (x_long ? dy : dx);
+    return 0.5 * (drawn_foam(xz - 0.5 * half_long, half_long, half_short, c)
+                  + drawn_foam(xz + 0.5 * half_long, half_long, half_short, c));
 }
 
 // Detail near the viewer (issue 29, item 2): the waves shorter than the finest cascade
@@ -867,7 +885,13 @@ void main() {
     f.light = vec3(0.0);
     if (TAKES_FOAM(f.coverage > 0.0)) {
         COUNT(COUNT_FOAM, 1u);
-        f.drawn = drawn_foam(floated, dx, dy, f.coverage);
+        // The plain shading (the supersampled reference's) reads the pattern once. `max`: the
+        // cost model's union of paths keeps both sides' work (f.drawn is 0 before).
+        if (TAKES_PLAIN(g.specular_aa.y < 0.5)) {
+            f.drawn = drawn_foam(floated, dx, dy, f.coverage);
+        } OTHERWISE {
+            f.drawn = max(f.drawn, filtered_foam(floated, dx, dy, f.coverage));
+        }
         f.bubbles = bubbles_under(floated, v, w.n, dx, dy, f.coverage);
         f.light = foam_light(w.n);
     }

@@ -5,7 +5,9 @@
 //! water, facing the sun's glitter path and facing away.
 //!
 //! Gate: with the defaults (MSAA 4 + specular AA) the far band's error facing the sun is at
-//! most 0.6× that of `--msaa 1 --specular-aa off`. Two defaults are held to it: the desktop's
+//! most 0.6× that of `--msaa 1 --specular-aa off`, facing away at most 0.8× (issue 43: the
+//! foam's flecks on breaking crests, `filtered_foam` in the water shader). Two defaults are
+//! held to it: the desktop's
 //! (the highlight supersampled where the finest cascade is minified; trilinear normal maps on
 //! lavapipe) on the host, and the headsets' (the lobe filtered alone, the normal maps read
 //! with 4 anisotropic taps, no supersampling; issue 43) in both eyes, on Mesa 25's lavapipe in
@@ -337,12 +339,22 @@ fn msaa_and_specular_aa_bring_the_far_sea_to_the_supersampled_reference() {
     std::fs::write(&target, c.json()).unwrap();
     println!("wrote {}", target.display());
     let (sun_ratio, _) = c.ratio("sun", Shading::Desktop);
+    let (away_ratio, _) = c.ratio("away", Shading::Desktop);
     assert!(
         sun_ratio <= 0.6,
         "facing the sun, the far band's error with MSAA 4 + specular AA is {sun_ratio:.3}x that \
          of MSAA 1 without it (gate 0.6)"
     );
+    assert!(
+        away_ratio <= AWAY_GATE,
+        "facing away, the far band's error with MSAA 4 + specular AA is {away_ratio:.3}x that \
+         of MSAA 1 without it (gate {AWAY_GATE})"
+    );
 }
+
+/// The far band's error facing away from the sun, as a share of no-AA's (issue 43: no worse
+/// than the 0.80 measured when it was filed; 0.86 before the foam's pattern was filtered).
+const AWAY_GATE: f64 = 0.8;
 
 /// Set in the run of this binary inside the Monado step's root.
 const IN_ROOT: &str = "VR_OCEAN_ALIASING_IN_ROOT";
@@ -350,8 +362,7 @@ const IN_ROOT: &str = "VR_OCEAN_ALIASING_IN_ROOT";
 const REPORT_LINE: &str = "aliasing report: ";
 
 /// The headsets' shading (issue 43): the filtered lobe over 4 anisotropic taps, with no
-/// supersampling, holds the gate in each eye facing the sun, and facing away is no worse than
-/// the supersampled desktop shading of the same run (the issue's "today's", measured alike).
+/// supersampling, holds the gates in each eye, facing the sun and facing away.
 /// Mesa 22.3's lavapipe on the host filters anisotropic taps ~50x slower, so this runs in the
 /// trixie root (Mesa 25): the test runs its own binary there.
 #[test]
@@ -390,17 +401,16 @@ fn the_headsets_filtered_lobe_holds_the_gate_without_supersampling() {
         serde_json::Value::Object(c.report.clone())
     );
     let (_, sun_eyes) = c.ratio("sun", Shading::Headset);
-    let (away, _) = c.ratio("away", Shading::Headset);
-    let (away_desktop, _) = c.ratio("away", Shading::Desktop);
+    let (_, away_eyes) = c.ratio("away", Shading::Headset);
     assert!(
         sun_eyes.iter().all(|&r| r <= 0.6),
         "facing the sun, the headsets' far-band error is {sun_eyes:.3?}x no-AA's (left, right; \
          gate 0.6 in each eye)"
     );
     assert!(
-        away <= 1.01 * away_desktop,
-        "facing away, the headsets' far-band error is {away:.3}x no-AA's, the supersampled \
-         desktop's {away_desktop:.3}x"
+        away_eyes.iter().all(|&r| r <= AWAY_GATE),
+        "facing away, the headsets' far-band error is {away_eyes:.3?}x no-AA's (left, right; \
+         gate {AWAY_GATE} in each eye)"
     );
 }
 
