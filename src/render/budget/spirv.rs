@@ -424,8 +424,9 @@ mod tests {
         // each sub-pixel position besides the pixel's own).
         assert!(super0.alu > single.alu);
         assert_eq!(super1.samples, super0.samples + 3);
-        // Foam adds the pattern's and the bubbles' samples.
-        assert_eq!(foam.samples, single.samples + 3);
+        // Foam adds the pattern's samples (two scales at two taps: `filtered_foam`) and the
+        // bubbles'.
+        assert_eq!(foam.samples, single.samples + 5);
         assert!(plain.alu < single.alu);
         assert!(vertex.samples >= 3 && vertex.alu > 20);
         // 39-44 % of the water's arithmetic is in relaxed precision (mediump: the body, foam,
