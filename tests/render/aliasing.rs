@@ -7,14 +7,14 @@
 //! Gate: with the defaults (MSAA 4 + specular AA) the far band's error facing the sun is at
 //! most 0.6× that of `--msaa 1 --specular-aa off`, facing away at most 0.8× (issue 43: the
 //! foam's flecks on breaking crests, `filtered_foam` in the water shader). Two defaults are
-//! held to it: the desktop's
-//! (the highlight supersampled where the finest cascade is minified; trilinear normal maps on
-//! lavapipe) on the host, and the headsets' (the lobe filtered alone, the normal maps read
-//! with 4 anisotropic taps, no supersampling; issue 43) in both eyes, on Mesa 25's lavapipe in
-//! the Monado step's root, where anisotropic taps cost nothing measurable (Mesa 22.3's take
-//! ~50x). Also checked: MSAA gives the horizon's edge pixels intermediate colours (from about
-//! none without it). The numbers, with stereo consistency of far highlights, are printed and
-//! written to `target/aliasing.json` (`target/aliasing-headset.json`).
+//! held to it: the desktop's (the highlight supersampled where the finest cascade is
+//! minified; trilinear normal maps on lavapipe) on the host, and the headsets' (the lobe
+//! filtered alone, the normal maps read with 4 anisotropic taps, no supersampling; issue 43)
+//! in both eyes, on Mesa 25's lavapipe in the Monado step's root, where anisotropic taps cost
+//! nothing measurable (Mesa 22.3's take ~50x). Also checked: MSAA gives the horizon's edge
+//! pixels intermediate colours (from about none without it). The numbers, with stereo
+//! consistency of far highlights, are printed and written to `target/aliasing.json`
+//! (`target/aliasing-headset.json`).
 
 use crate::common;
 
